@@ -1,0 +1,243 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// Shared plumbing of the `iclap` example program: the subcommand registry,
+// option parsing with errors that name the option and value, exit codes and
+// terminal progress. Each subcommand lives in its own cmd_<name>.cpp and
+// registers itself with ICLAP_COMMAND.
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace iclap::cli {
+
+/// Exit statuses of the `iclap` program.
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitFailure = 1,     ///< a run that could not complete (e.g. a write failed)
+  kExitBadInput = 2,    ///< bad usage, unreadable or malformed input
+  kExitDeviceLost = 3,  ///< the device went away mid-run (rig commands)
+};
+
+/// A usage error: unknown option, missing or malformed value. Exit status 2.
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+using Args = std::vector<std::string>;
+
+/// A subcommand: `iclap NAME ARGS...`.
+struct Command {
+  std::string name;
+  std::string summary;  ///< one line for `iclap help`
+  std::string usage;    ///< full usage text for `iclap NAME --help`
+  int (*run)(const Args& args);
+};
+
+/// All registered commands (function-local static: no init-order issues).
+inline std::vector<Command>& registry() {
+  static std::vector<Command> commands;
+  return commands;
+}
+
+struct Registrar {
+  explicit Registrar(Command c) { registry().push_back(std::move(c)); }
+};
+
+#define ICLAP_CLI_CONCAT_(a, b) a##b
+#define ICLAP_CLI_CONCAT(a, b) ICLAP_CLI_CONCAT_(a, b)
+/// Registers a subcommand from its cmd_<name>.cpp file.
+#define ICLAP_COMMAND(name, summary, usage, fn) \
+  static const ::iclap::cli::Registrar ICLAP_CLI_CONCAT(iclap_command_, __LINE__)({name, summary, usage, fn})
+
+/// Parsed options of one subcommand. Options are `--name VALUE`,
+/// `--name=VALUE` or, for flags, `--name`; everything else is positional
+/// (`--` ends the options). Unknown options are a UsageError that names them.
+class Options {
+ public:
+  Options(const Args& args, const std::set<std::string>& value_options,
+          const std::set<std::string>& flags = {}) {
+    bool options_done = false;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+      const std::string& a = args[i];
+      if (options_done || a.size() < 3 || a.compare(0, 2, "--") != 0) {
+        if (a == "--") {
+          options_done = true;
+          continue;
+        }
+        positional_.push_back(a);
+        continue;
+      }
+      std::string name = a.substr(2);
+      std::string value;
+      bool has_value = false;
+      const auto eq = name.find('=');
+      if (eq != std::string::npos) {
+        value = name.substr(eq + 1);
+        name = name.substr(0, eq);
+        has_value = true;
+      }
+      if (flags.count(name)) {
+        if (has_value) throw UsageError("option --" + name + " takes no value (got '" + value + "')");
+        flags_.insert(name);
+      } else if (value_options.count(name)) {
+        if (!has_value) {
+          if (i + 1 >= args.size()) throw UsageError("option --" + name + " needs a value");
+          value = args[++i];
+        }
+        values_[name] = value;
+      } else {
+        throw UsageError("unknown option --" + name);
+      }
+    }
+  }
+
+  bool flag(const std::string& name) const { return flags_.count(name) > 0; }
+  bool has(const std::string& name) const { return values_.count(name) > 0; }
+  const std::vector<std::string>& positional() const { return positional_; }
+
+  /// Requires between `min` and `max` positional arguments, described by `what`.
+  void expect_positional(std::size_t min, std::size_t max, const std::string& what) const {
+    if (positional_.size() < min || positional_.size() > max)
+      throw UsageError("expected " + what + ", got " + std::to_string(positional_.size()) +
+                       " positional argument(s)");
+  }
+
+  std::string string(const std::string& name, const std::string& fallback = "") const {
+    const auto it = values_.find(name);
+    return it == values_.end() ? fallback : it->second;
+  }
+
+  /// A string value that must be one of `choices`.
+  std::string choice(const std::string& name, const std::vector<std::string>& choices,
+                     const std::string& fallback) const {
+    const std::string v = string(name, fallback);
+    if (std::find(choices.begin(), choices.end(), v) == choices.end()) {
+      std::string list;
+      for (const auto& c : choices) list += (list.empty() ? "" : "|") + c;
+      throw UsageError("option --" + name + ": '" + v + "' is not one of " + list);
+    }
+    return v;
+  }
+
+  long long integer(const std::string& name, long long fallback,
+                    long long min = std::numeric_limits<long long>::min(),
+                    long long max = std::numeric_limits<long long>::max()) const {
+    if (!has(name)) return fallback;
+    return parse_integer(string(name), "--" + name, min, max);
+  }
+
+  double number(const std::string& name, double fallback,
+                double min = -std::numeric_limits<double>::infinity(),
+                double max = std::numeric_limits<double>::infinity()) const {
+    if (!has(name)) return fallback;
+    return parse_number(string(name), "--" + name, min, max);
+  }
+
+  /// A comma-separated list of numbers, e.g. `--weights 1,1,1,0.01`.
+  std::vector<double> numbers(const std::string& name,
+                              double min = -std::numeric_limits<double>::infinity(),
+                              double max = std::numeric_limits<double>::infinity()) const {
+    std::vector<double> out;
+    if (!has(name)) return out;
+    for (const auto& item : split(string(name), ','))
+      out.push_back(parse_number(item, "--" + name, min, max));
+    return out;
+  }
+
+  static std::vector<std::string> split(const std::string& s, char sep) {
+    std::vector<std::string> parts;
+    std::string cur;
+    for (char c : s) {
+      if (c == sep) {
+        parts.push_back(cur);
+        cur.clear();
+      } else {
+        cur += c;
+      }
+    }
+    parts.push_back(cur);
+    return parts;
+  }
+
+  static long long parse_integer(const std::string& text, const std::string& what, long long min,
+                                 long long max) {
+    char* end = nullptr;
+    errno = 0;
+    const long long v = std::strtoll(text.c_str(), &end, 10);
+    if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE)
+      throw UsageError(what + ": '" + text + "' is not an integer");
+    if (v < min || v > max)
+      throw UsageError(what + ": " + text + " is outside [" + std::to_string(min) + ", " +
+                       std::to_string(max) + "]");
+    return v;
+  }
+
+  static double parse_number(const std::string& text, const std::string& what, double min, double max) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size())
+      throw UsageError(what + ": '" + text + "' is not a number");
+    if (!std::isfinite(v)) throw UsageError(what + ": '" + text + "' is not finite");
+    if (v < min || v > max) throw UsageError(what + ": " + text + " is out of range");
+    return v;
+  }
+
+ private:
+  std::vector<std::string> positional_;
+  std::map<std::string, std::string> values_;
+  std::set<std::string> flags_;
+};
+
+/// A thread-safe progress line on stderr, shown only when stderr is a
+/// terminal (so logs and CI output stay clean). Use as an
+/// iclap::ProgressCallback.
+class Progress {
+ public:
+  explicit Progress(std::string label) : label_(std::move(label)), tty_(isatty(2) != 0) {}
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+  ~Progress() { finish(); }
+
+  void operator()(std::size_t done, std::size_t total) {
+    if (!tty_) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto now = std::chrono::steady_clock::now();
+    if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    const double pct = total ? 100.0 * static_cast<double>(done) / static_cast<double>(total) : 100.0;
+    std::fprintf(stderr, "\r%s: %zu/%zu (%.0f%%)   ", label_.c_str(), done, total, pct);
+    std::fflush(stderr);
+    shown_ = true;
+  }
+
+  /// Ends the progress line (idempotent).
+  void finish() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (shown_) std::fprintf(stderr, "\n");
+    shown_ = false;
+  }
+
+ private:
+  std::string label_;
+  bool tty_;
+  bool shown_ = false;
+  std::mutex mutex_;
+  std::chrono::steady_clock::time_point last_{};
+};
+
+}  // namespace iclap::cli

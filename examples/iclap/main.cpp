@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+//
+// `iclap`: the example command-line program. Each subcommand is registered
+// from its own cmd_<name>.cpp file; this file only dispatches and turns
+// exceptions into messages and exit statuses.
+
+#include <algorithm>
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include "cli.hpp"
+#include "iclap/core/error.hpp"
+#include "iclap/core/version.hpp"
+
+namespace {
+
+void print_help(std::FILE* out) {
+  auto commands = iclap::cli::registry();
+  std::sort(commands.begin(), commands.end(),
+            [](const auto& a, const auto& b) { return a.name < b.name; });
+  std::fprintf(out,
+               "iclap %s: haptic object recognition (Iterative Closest Labeled Point)\n\n"
+               "usage: iclap COMMAND [ARGS...]\n       iclap COMMAND --help\n\ncommands:\n",
+               ICLAP_VERSION_STRING);
+  for (const auto& c : commands) std::fprintf(out, "  %-10s %s\n", c.name.c_str(), c.summary.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace iclap::cli;
+  if (argc < 2) {
+    print_help(stderr);
+    return kExitBadInput;
+  }
+  const std::string name = argv[1];
+  if (name == "help" || name == "--help" || name == "-h") {
+    print_help(stdout);
+    return kExitOk;
+  }
+  if (name == "--version") {
+    std::printf("iclap %s\n", ICLAP_VERSION_STRING);
+    return kExitOk;
+  }
+  const auto& commands = registry();
+  const auto it = std::find_if(commands.begin(), commands.end(),
+                               [&](const Command& c) { return c.name == name; });
+  if (it == commands.end()) {
+    std::fprintf(stderr, "iclap: unknown command '%s' (see 'iclap help')\n", name.c_str());
+    return kExitBadInput;
+  }
+  const Args args(argv + 2, argv + argc);
+  if (std::find(args.begin(), args.end(), "--help") != args.end()) {
+    std::printf("%s\n", it->usage.c_str());
+    return kExitOk;
+  }
+  try {
+    return it->run(args);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "iclap %s: %s\n%s\n", name.c_str(), e.what(), it->usage.c_str());
+    return kExitBadInput;
+  } catch (const iclap::ParseError& e) {
+    std::fprintf(stderr, "%s\n", e.what());  // FILE:LINE: reason
+    return kExitBadInput;
+  } catch (const iclap::InvalidArgument& e) {
+    std::fprintf(stderr, "iclap %s: %s\n", name.c_str(), e.what());
+    return kExitBadInput;
+  } catch (const iclap::IoError& e) {
+    std::fprintf(stderr, "iclap %s: %s\n", name.c_str(), e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "iclap %s: error: %s\n", name.c_str(), e.what());
+    return kExitFailure;
+  }
+}

@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace iclap {
+
+/// Base of every exception the library throws. Catch this to catch them all.
+///
+/// Misuse (NaN input, empty clouds, impossible settings) and unreadable files
+/// are exceptions; a registration that does not converge is not, it is a
+/// normal outcome reported in the result.
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A caller passed a value the contract does not allow. `argument()` names
+/// the parameter (or the setting, e.g. "settings.trim_fraction"); `what()`
+/// reads "argument: reason".
+class InvalidArgument : public Error {
+ public:
+  InvalidArgument(std::string argument, const std::string& reason)
+      : Error(argument + ": " + reason), argument_(std::move(argument)) {}
+  const std::string& argument() const noexcept { return argument_; }
+
+ private:
+  std::string argument_;
+};
+
+/// An input that must hold at least one element holds none.
+class EmptyInput : public InvalidArgument {
+ public:
+  explicit EmptyInput(std::string argument, const std::string& what_is_empty = "is empty")
+      : InvalidArgument(std::move(argument), what_is_empty) {}
+};
+
+/// Two inputs (or an input and a compile-time size) disagree on a dimension.
+class DimensionMismatch : public InvalidArgument {
+ public:
+  DimensionMismatch(std::string argument, std::ptrdiff_t expected, std::ptrdiff_t actual)
+      : InvalidArgument(std::move(argument), "has dimension " + std::to_string(actual) +
+                                                 ", expected " + std::to_string(expected)),
+        expected_(expected),
+        actual_(actual) {}
+  std::ptrdiff_t expected() const noexcept { return expected_; }
+  std::ptrdiff_t actual() const noexcept { return actual_; }
+
+ private:
+  std::ptrdiff_t expected_;
+  std::ptrdiff_t actual_;
+};
+
+/// A NaN or infinity where a finite number is required. `row()` and `column()`
+/// locate it (for point clouds: coordinate and point index).
+class NonFiniteValue : public InvalidArgument {
+ public:
+  NonFiniteValue(std::string argument, std::ptrdiff_t row, std::ptrdiff_t column, double value)
+      : InvalidArgument(std::move(argument), "non-finite value " + std::to_string(value) +
+                                                 " at row " + std::to_string(row) +
+                                                 ", column " + std::to_string(column)),
+        row_(row),
+        column_(column) {}
+  std::ptrdiff_t row() const noexcept { return row_; }
+  std::ptrdiff_t column() const noexcept { return column_; }
+
+ private:
+  std::ptrdiff_t row_;
+  std::ptrdiff_t column_;
+};
+
+/// A file or stream could not be parsed. `what()` reads "FILE:LINE: reason",
+/// the form compilers use, so editors and terminals can jump to the line.
+/// Readers that throw it return nothing partial.
+class ParseError : public Error {
+ public:
+  ParseError(std::string file, std::size_t line, std::string reason)
+      : Error(file + ":" + std::to_string(line) + ": " + reason),
+        file_(std::move(file)),
+        line_(line),
+        reason_(std::move(reason)) {}
+  const std::string& file() const noexcept { return file_; }
+  /// 1-based line number; 0 when the problem concerns the whole file.
+  std::size_t line() const noexcept { return line_; }
+  const std::string& reason() const noexcept { return reason_; }
+
+ private:
+  std::string file_;
+  std::size_t line_;
+  std::string reason_;
+};
+
+/// The operating system refused a file or device operation.
+class IoError : public Error {
+ public:
+  IoError(std::string path, const std::string& reason)
+      : Error(path + ": " + reason), path_(std::move(path)) {}
+  const std::string& path() const noexcept { return path_; }
+
+ private:
+  std::string path_;
+};
+
+}  // namespace iclap

@@ -1,0 +1,166 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <utility>
+
+#include <nanoflann.hpp>
+
+#include "iclap/core/check.hpp"
+#include "iclap/core/types.hpp"
+#include "iclap/search/neighbor.hpp"
+
+namespace iclap {
+
+namespace detail {
+
+/// nanoflann dataset adaptor over a column-major Eigen cloud.
+template <typename Scalar, int Dim>
+struct EigenCloudAdaptor {
+  const Cloud<Scalar, Dim>* points;
+  std::size_t kdtree_get_point_count() const { return static_cast<std::size_t>(points->cols()); }
+  Scalar kdtree_get_pt(std::uint32_t idx, std::size_t d) const {
+    return (*points)(static_cast<Index>(d), static_cast<Index>(idx));
+  }
+  template <class BBox>
+  bool kdtree_get_bbox(BBox&) const {
+    return false;
+  }
+};
+
+/// nanoflann metric that uses the shared squared-distance kernel, so tree
+/// and brute force agree bit for bit.
+template <typename Scalar, int Dim>
+struct SharedL2Metric {
+  using ElementType = Scalar;
+  using DistanceType = Scalar;
+  const EigenCloudAdaptor<Scalar, Dim>& data_source;
+  explicit SharedL2Metric(const EigenCloudAdaptor<Scalar, Dim>& source) : data_source(source) {}
+  Scalar evalMetric(const Scalar* a, std::uint32_t b_idx, std::size_t size) const {
+    return squared_distance<Dim>(a, data_source.points->col(static_cast<Index>(b_idx)).data(),
+                                 static_cast<Index>(size));
+  }
+  template <typename U, typename V>
+  Scalar accum_dist(const U a, const V b, const std::size_t) const {
+    return (a - b) * (a - b);
+  }
+};
+
+/// Single-nearest result set with the shared tie rule. nanoflann only offers
+/// a point to the set when it is strictly closer than `worstDist()`, so the
+/// bound is inflated by a few ulps: equidistant points still reach
+/// `addPoint`, which keeps the smaller index. The inflation only widens the
+/// search, it never changes which point wins.
+template <typename Scalar>
+struct NearestTieAwareResultSet {
+  using DistanceType = Scalar;
+  using IndexType = std::uint32_t;
+  Scalar best = std::numeric_limits<Scalar>::infinity();
+  Scalar bound = std::numeric_limits<Scalar>::infinity();
+  IndexType index = std::numeric_limits<IndexType>::max();
+
+  bool full() const { return index != std::numeric_limits<IndexType>::max(); }
+  bool addPoint(Scalar d, IndexType i) {
+    if (d < best || (d == best && i < index)) {
+      best = d;
+      index = i;
+      constexpr Scalar slack = Scalar(1) + Scalar(64) * std::numeric_limits<Scalar>::epsilon();
+      bound = best * slack + std::numeric_limits<Scalar>::denorm_min();
+    }
+    return true;
+  }
+  Scalar worstDist() const { return bound; }
+};
+
+}  // namespace detail
+
+/// Nearest-neighbour search through a nanoflann kd-tree (nanoflann 1.4.3),
+/// built once from the points and reused for any number of queries.
+///
+/// Build O(n log n); query O(log n) expected for low dimensions (it degrades
+/// towards brute force as the dimension grows). Same distances and tie rule
+/// as `BruteForceSearch`, so the answers are identical.
+///
+/// The tree and its points live in one immutable, shared block: copying a
+/// `KdTreeSearch` is cheap and the copies share the tree; queries are const
+/// and thread-safe, so one reference serves every thread.
+template <typename Scalar, int Dim = Eigen::Dynamic>
+class KdTreeSearch {
+  ICLAP_CHECK_SCALAR_AND_DIM(Scalar, Dim);
+
+ public:
+  using CloudType = Cloud<Scalar, Dim>;
+
+  struct Settings {
+    /// Points per leaf: larger builds faster and searches a little slower.
+    std::size_t leaf_max_size = 10;
+  };
+
+  KdTreeSearch() = default;
+
+  /// Takes the points (one per column) and builds the tree. Throws EmptyInput
+  /// for an empty cloud, NonFiniteValue for NaN or infinite coordinates and
+  /// InvalidArgument for more than 2^32 - 1 points, naming `points`.
+  explicit KdTreeSearch(CloudType points, const Settings& settings = {}) {
+    check_not_empty(points, "points");
+    check_finite(points, "points");
+    if (points.cols() >= static_cast<Index>(std::numeric_limits<std::uint32_t>::max()))
+      throw InvalidArgument("points", "too many points for the kd-tree index type");
+    if (settings.leaf_max_size == 0)
+      throw InvalidArgument("settings.leaf_max_size", "must be at least 1");
+    impl_ = std::make_shared<const Impl>(std::move(points), settings);
+  }
+
+  Index size() const noexcept { return impl_ ? impl_->points.cols() : 0; }
+  Index dim() const noexcept { return impl_ ? impl_->points.rows() : 0; }
+  const CloudType& points() const noexcept {
+    static const CloudType empty;
+    return impl_ ? impl_->points : empty;
+  }
+
+  /// The closest point to `query` (length `dim()`), ties to the smaller index.
+  Neighbor<Scalar> nearest(const Scalar* query) const {
+    Neighbor<Scalar> result;
+    if (!impl_) return result;
+    detail::NearestTieAwareResultSet<Scalar> set;
+    impl_->tree.findNeighbors(set, query, nanoflann::SearchParams());
+    if (set.full()) {
+      result.index = static_cast<Index>(set.index);
+      result.squared_distance = set.best;
+    }
+    return result;
+  }
+
+  /// Same as above for an Eigen vector (evaluated into a temporary if it is
+  /// an expression).
+  template <typename Derived>
+  Neighbor<Scalar> nearest(const Eigen::MatrixBase<Derived>& query) const {
+    const Point<Scalar, Dim> q = query;
+    return nearest(q.data());
+  }
+
+ private:
+  using Adaptor = detail::EigenCloudAdaptor<Scalar, Dim>;
+  using Metric = detail::SharedL2Metric<Scalar, Dim>;
+  using Tree = nanoflann::KDTreeSingleIndexAdaptor<Metric, Adaptor, (Dim > 0 ? Dim : -1), std::uint32_t>;
+
+  struct Impl {
+    CloudType points;
+    Adaptor adaptor;
+    Tree tree;
+    Impl(CloudType p, const Settings& settings)
+        : points(std::move(p)),
+          adaptor{&points},
+          tree(static_cast<int>(points.rows()), adaptor,
+               nanoflann::KDTreeSingleIndexAdaptorParams(settings.leaf_max_size)) {}
+    Impl(const Impl&) = delete;
+    Impl& operator=(const Impl&) = delete;
+  };
+
+  std::shared_ptr<const Impl> impl_;
+};
+
+}  // namespace iclap

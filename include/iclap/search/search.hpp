@@ -1,0 +1,12 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+/// Nearest-neighbour search policies. Both model the same interface:
+///   explicit Search(Cloud points, const Settings& = {});
+///   Index size() const; Index dim() const; const Cloud& points() const;
+///   Neighbor<Scalar> nearest(const Scalar* query) const;   // thread-safe
+/// with identical distances and the tie rule "smaller index wins", so either
+/// can stand in for the other (and brute force is the kd-tree's oracle).
+#include "iclap/search/brute_force.hpp"
+#include "iclap/search/kdtree.hpp"
+#include "iclap/search/neighbor.hpp"
