@@ -1,0 +1,235 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// Streaming, crash-tolerant appender of dataset CSV rows, for recorders that
+// log frames as they arrive (the rig recorder).
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <set>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include "iclap/core/error.hpp"
+#include "iclap/data/csv_common.hpp"
+#include "iclap/data/csv_reader.hpp"
+#include "iclap/data/csv_writer.hpp"
+
+namespace iclap {
+
+/// Appends frames to a dataset CSV file one complete row at a time.
+///
+/// Opening: if `path` does not exist or is empty, it is created with the
+/// comment lines and the header of `columns` (writer order). If it exists, its
+/// header must have exactly the columns of `columns` (in any order; rows are
+/// then written in the file's column order) or the constructor throws
+/// ParseError naming the file and the header line; `comments` are not written
+/// again. A trailing partial row (the file does not end with a line break,
+/// e.g. after a power loss mid-write) is cut off and its size reported by
+/// `recovered_bytes()`, so the file is always a sequence of complete rows.
+///
+/// Writing: `append` validates the frame first (InvalidArgument, nothing
+/// written), formats the whole row, writes it with one buffered write and
+/// flushes it to the operating system, so a crash of the process loses at
+/// most the row in flight. `sync()` additionally asks the OS to put it on
+/// disk. After a failed write (IoError) the appender refuses further rows.
+///
+/// Not thread-safe; one appender per file. Move-only.
+class DatasetCsvAppender {
+ public:
+  DatasetCsvAppender(std::string path, const DatasetColumns& columns,
+                     const std::vector<std::string>& comments = {})
+      : path_(std::move(path)), columns_(columns) {
+    detail::validate_grid(columns.rows, columns.cols, "columns");
+    detail::validate_comments(comments, "comments");
+    std::error_code ec;
+    const bool exists = std::filesystem::exists(path_, ec);
+    const bool empty = exists && std::filesystem::file_size(path_, ec) == 0 && !ec;
+    bool need_newline = false;
+    if (exists && !empty) {
+      need_newline = open_existing();
+    } else {
+      slots_ = detail::writer_slots(columns_);
+    }
+    file_ = std::fopen(path_.c_str(), "ab");
+    if (!file_) throw IoError(path_, std::string("cannot open for appending: ") + std::strerror(errno));
+    // One buffer larger than any row: each row leaves in a single write().
+    std::setvbuf(file_, nullptr, _IOFBF, 1 << 16);
+    if (!exists || empty) write_and_flush(detail::header_text(comments, columns_));
+    else if (need_newline) write_and_flush("\n");
+  }
+
+  /// Same as above with the columns spelled out: a `rows` x `cols` grid,
+  /// with a `t` column if `time`, qw..qz columns if `orientation`.
+  DatasetCsvAppender(std::string path, Index rows, Index cols, bool time, bool orientation,
+                     const std::vector<std::string>& comments = {})
+      : DatasetCsvAppender(std::move(path), DatasetColumns{rows, cols, time, orientation}, comments) {}
+
+  DatasetCsvAppender(DatasetCsvAppender&& o) noexcept
+      : path_(std::move(o.path_)),
+        columns_(o.columns_),
+        slots_(std::move(o.slots_)),
+        file_(std::exchange(o.file_, nullptr)),
+        rows_in_file_(o.rows_in_file_),
+        recovered_bytes_(o.recovered_bytes_),
+        failed_(o.failed_) {}
+  DatasetCsvAppender& operator=(DatasetCsvAppender&&) = delete;
+  DatasetCsvAppender(const DatasetCsvAppender&) = delete;
+  DatasetCsvAppender& operator=(const DatasetCsvAppender&) = delete;
+
+  ~DatasetCsvAppender() {
+    if (file_) std::fclose(file_);
+  }
+
+  /// Writes `f` as one complete row and flushes it. The frame must match the
+  /// file's columns (grid size, `t` and orientation present exactly when the
+  /// file has those columns) and be valid (finite, pressures >= 0, an object
+  /// name without commas or quotes): InvalidArgument otherwise, and nothing
+  /// is written. IoError if the write fails.
+  void append(const Frame& f) {
+    if (failed_) throw IoError(path_, "an earlier write failed; the appender is closed");
+    detail::validate_frame(f, columns_, "frame");
+    row_.clear();
+    detail::append_row(row_, f, slots_);
+    write_and_flush(row_);
+    ++rows_in_file_;
+  }
+
+  /// Asks the operating system to write the file to its storage (fsync), for
+  /// durability against power loss, not only process crashes. Slow: call it
+  /// at the end of an exploration, not per row.
+  void sync() {
+    if (!file_ || fsync_file()) return;
+    failed_ = true;
+    throw IoError(path_, std::string("fsync failed: ") + std::strerror(errno));
+  }
+
+  const std::string& path() const noexcept { return path_; }
+  const DatasetColumns& columns() const noexcept { return columns_; }
+  /// Data rows in the file: those found when opening plus those appended.
+  std::size_t rows_in_file() const noexcept { return rows_in_file_; }
+  /// Bytes of a trailing partial row cut off when opening (0 normally).
+  std::size_t recovered_bytes() const noexcept { return recovered_bytes_; }
+
+ private:
+  // Reads the existing file's header, checks it and counts its rows; cuts off
+  // a trailing partial row. Returns true if the (complete) header line is the
+  // last thing in the file and lacks its line break.
+  bool open_existing() {
+    std::string text;
+    {
+      std::ifstream in(path_, std::ios::binary);
+      if (!in) throw IoError(path_, std::string("cannot open for reading: ") + std::strerror(errno));
+      text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+      if (in.bad()) throw IoError(path_, "read failed");
+    }
+    std::string_view view(text);
+    std::size_t offset = 0;
+    if (view.size() >= 3 && view.substr(0, 3) == "\xEF\xBB\xBF") offset = 3;
+    std::size_t pos = offset, line_no = 0, header_line = 0;
+    std::size_t header_end = 0;  // offset just past the header line
+    std::string_view header;
+    while (pos < view.size()) {
+      std::size_t end = view.find('\n', pos);
+      const bool terminated = end != std::string_view::npos;
+      if (!terminated) end = view.size();
+      std::string_view line = view.substr(pos, end - pos);
+      if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+      ++line_no;
+      const std::size_t line_start = pos;
+      pos = terminated ? end + 1 : end;
+      if (header_line == 0) {
+        if (detail::trim_ascii(line).empty() || line.front() == '#') continue;
+        header = line;
+        header_line = line_no;
+        header_end = pos;
+        continue;
+      }
+      if (!terminated) {  // a partial last row: cut it off
+        recovered_bytes_ = view.size() - line_start;
+        std::error_code ec;
+        std::filesystem::resize_file(path_, line_start, ec);
+        if (ec) throw IoError(path_, "cannot cut off a partial last row: " + ec.message());
+        break;
+      }
+      if (!detail::trim_ascii(line).empty()) ++rows_in_file_;
+    }
+    if (header_line == 0)
+      throw ParseError(path_, line_no, "existing file has no header row; cannot append to it");
+    check_header(header, header_line);
+    return header_end == view.size() && (view.empty() || view.back() != '\n');
+  }
+
+  void check_header(std::string_view header, std::size_t line) {
+    std::vector<std::string_view> fields;
+    detail::split_fields(header, fields);
+    const auto expected = columns_.names();
+    const auto ours = detail::writer_slots(columns_);
+    std::set<std::string> want(expected.begin(), expected.end()), seen;
+    std::string unexpected, duplicate;
+    for (auto f : fields) {
+      const std::string s(f);
+      if (!want.count(s)) unexpected += (unexpected.empty() ? "'" : ", '") + s + "'";
+      else if (!seen.insert(s).second) duplicate += (duplicate.empty() ? "'" : ", '") + s + "'";
+    }
+    std::string missing;
+    std::size_t n_missing = 0;
+    for (const auto& e : expected)
+      if (!seen.count(e)) {
+        if (++n_missing <= 5) missing += (missing.empty() ? "'" : ", '") + e + "'";
+      }
+    if (n_missing > 5) missing += " and " + std::to_string(n_missing - 5) + " more";
+    if (!unexpected.empty() || !missing.empty() || !duplicate.empty()) {
+      std::string reason = "header does not match the recorder's columns (" +
+                           std::to_string(columns_.rows) + "x" + std::to_string(columns_.cols) +
+                           " taxels, t " + (columns_.time ? "yes" : "no") + ", quaternion " +
+                           (columns_.orientation ? "yes" : "no") + "):";
+      if (!missing.empty()) reason += " missing " + missing + ";";
+      if (!unexpected.empty()) reason += " unexpected " + unexpected + ";";
+      if (!duplicate.empty()) reason += " duplicate " + duplicate + ";";
+      reason.pop_back();
+      throw ParseError(path_, line, reason);
+    }
+    // Same set of columns: write in the file's order.
+    for (auto f : fields) {
+      const std::string s(f);
+      for (std::size_t i = 0; i < expected.size(); ++i)
+        if (expected[i] == s) slots_.push_back(ours[i]);
+    }
+  }
+
+  void write_and_flush(const std::string& text) {
+    const std::size_t n = std::fwrite(text.data(), 1, text.size(), file_);
+    if (n != text.size() || std::fflush(file_) != 0) {
+      failed_ = true;
+      throw IoError(path_, std::string("write failed: ") + std::strerror(errno));
+    }
+  }
+
+  bool fsync_file();
+
+  std::string path_;
+  DatasetColumns columns_;
+  std::vector<detail::ColumnSlot> slots_;
+  std::FILE* file_ = nullptr;
+  std::string row_;
+  std::size_t rows_in_file_ = 0;
+  std::size_t recovered_bytes_ = 0;
+  bool failed_ = false;
+};
+
+}  // namespace iclap
+
+#if defined(__unix__) || defined(__APPLE__)
+#include <unistd.h>
+inline bool iclap::DatasetCsvAppender::fsync_file() { return ::fsync(::fileno(file_)) == 0; }
+#else
+inline bool iclap::DatasetCsvAppender::fsync_file() { return std::fflush(file_) == 0; }
+#endif

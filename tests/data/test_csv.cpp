@@ -1,0 +1,479 @@
+// SPDX-License-Identifier: MIT
+// Dataset CSV: exact round trip, every malformed case of the format spec,
+// CRLF/BOM, warnings, the streaming appender, summary helpers.
+
+#include <doctest/doctest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "iclap/core/random.hpp"
+#include "iclap/data/data.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using iclap::Dataset;
+using iclap::DatasetWarning;
+using iclap::Frame;
+
+std::string fixture(const std::string& name) { return std::string(ICLAP_TEST_FIXTURES) + "/data/" + name; }
+
+// A unique scratch directory per test case, removed at the end.
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& tag) {
+    path = fs::temp_directory_path() /
+           ("iclap_test_data_" + tag + "_" + std::to_string(static_cast<long>(::getpid())));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  std::string file(const std::string& name) const { return (path / name).string(); }
+};
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+void spit(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+Dataset read_text(const std::string& text, std::vector<DatasetWarning>* warnings = nullptr) {
+  std::istringstream in(text);
+  return iclap::read_dataset_csv(in, "mem.csv", [&](const DatasetWarning& w) {
+    if (warnings) warnings->push_back(w);
+  });
+}
+
+// Values chosen to break any formatting that is not shortest-round-trip.
+Dataset awkward_dataset(bool time, bool orientation) {
+  Dataset ds;
+  ds.rows = 3;
+  ds.cols = 2;
+  ds.comments = {"sensor: test rows=3 cols=2", "", " leading space kept", "a # inside, commas too"};
+  iclap::Rng rng(42);
+  const double specials[] = {0.1, 1.0 / 3.0, 5e-324, 1e-300, 1.7976931348623157e308,
+                             -0.0, 123456789.125, 4095, 2.2250738585072014e-308};
+  for (int i = 0; i < 40; ++i) {
+    Frame f;
+    f.object = i % 3 == 0 ? "pliers_1" : (i % 3 == 1 ? "fixed wrench (2)" : "ÄÖ_utf8");
+    f.exploration = i % 2 == 0 ? i / 7 : (std::int64_t(1) << 62) + i;
+    f.frame = i % 5 == 0 ? -i : i;
+    f.position = {rng.normal(0, 0.1), specials[i % 9] * (i % 2 ? -1 : 1), rng.uniform() * 1e-9};
+    if (time) f.time = i * 0.2;
+    if (orientation) {
+      Eigen::Quaterniond q(rng.normal(), rng.normal(), rng.normal(), rng.normal());
+      q.normalize();
+      f.orientation = q;
+    }
+    f.pressures.resize(3, 2);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 2; ++c)
+        f.pressures(r, c) = (r + c + i) % 4 == 0 ? std::abs(specials[(r * 2 + c + i) % 9])
+                                                 : std::floor(rng.uniform(0, 4096));
+    ds.frames.push_back(f);
+  }
+  return ds;
+}
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+void check_identical(const Dataset& a, const Dataset& b) {
+  REQUIRE(a.rows == b.rows);
+  REQUIRE(a.cols == b.cols);
+  CHECK(a.comments == b.comments);
+  REQUIRE(a.frames.size() == b.frames.size());
+  for (std::size_t i = 0; i < a.frames.size(); ++i) {
+    const Frame& x = a.frames[i];
+    const Frame& y = b.frames[i];
+    CAPTURE(i);
+    CHECK(x.object == y.object);
+    CHECK(x.exploration == y.exploration);
+    CHECK(x.frame == y.frame);
+    for (int k = 0; k < 3; ++k) CHECK(same_bits(x.position[k], y.position[k]));
+    REQUIRE(x.time.has_value() == y.time.has_value());
+    if (x.time) CHECK(same_bits(*x.time, *y.time));
+    REQUIRE(x.orientation.has_value() == y.orientation.has_value());
+    if (x.orientation)
+      for (int k = 0; k < 4; ++k) CHECK(same_bits(x.orientation->coeffs()[k], y.orientation->coeffs()[k]));
+    REQUIRE(x.pressures.rows() == y.pressures.rows());
+    REQUIRE(x.pressures.cols() == y.pressures.cols());
+    for (Eigen::Index k = 0; k < x.pressures.size(); ++k)
+      CHECK(same_bits(x.pressures.data()[k], y.pressures.data()[k]));
+  }
+}
+
+// Expects a ParseError at `line` whose reason contains `reason_part`, and no
+// warnings delivered.
+void check_rejected(const std::string& text, std::size_t line, const std::string& reason_part) {
+  std::vector<DatasetWarning> warnings;
+  bool thrown = false;
+  try {
+    read_text(text, &warnings);
+  } catch (const iclap::ParseError& e) {
+    thrown = true;
+    CHECK(e.file() == "mem.csv");
+    CHECK(e.line() == line);
+    CHECK_MESSAGE(e.reason().find(reason_part) != std::string::npos, e.what());
+    CHECK(std::string(e.what()).rfind("mem.csv:" + std::to_string(line) + ": ", 0) == 0);
+  }
+  CHECK_MESSAGE(thrown, "not rejected: " << text);
+  CHECK(warnings.empty());
+}
+
+const char* kHeader = "object,exploration,frame,x,y,z,p0_0,p0_1,p1_0,p1_1\n";
+
+}  // namespace
+
+TEST_CASE("dataset csv: write then read is exact, bytes deterministic") {
+  for (bool time : {false, true})
+    for (bool orientation : {false, true}) {
+      CAPTURE(time);
+      CAPTURE(orientation);
+      const Dataset ds = awkward_dataset(time, orientation);
+      std::ostringstream a, b;
+      iclap::write_dataset_csv(a, ds);
+      iclap::write_dataset_csv(b, ds);
+      CHECK(a.str() == b.str());
+      const Dataset back = read_text(a.str());
+      check_identical(ds, back);
+      std::ostringstream again;
+      iclap::write_dataset_csv(again, back);
+      CHECK(again.str() == a.str());
+    }
+}
+
+TEST_CASE("dataset csv: writer header order and number text") {
+  Dataset ds;
+  ds.rows = 1;
+  ds.cols = 2;
+  Frame f;
+  f.object = "a";
+  f.exploration = 3;
+  f.frame = 7;
+  f.position = {0.1, -0.0, 1e-5};
+  f.time = 1.4;
+  f.orientation = Eigen::Quaterniond(1, 0, 0, 0);
+  f.pressures.resize(1, 2);
+  f.pressures << 0, 4095;
+  ds.frames.push_back(f);
+  ds.comments = {"c"};
+  std::ostringstream out;
+  iclap::write_dataset_csv(out, ds);
+  CHECK(out.str() ==
+        "# c\nobject,exploration,frame,t,x,y,z,qw,qx,qy,qz,p0_0,p0_1\n"
+        "a,3,7,1.4,0.1,-0,1e-05,1,0,0,0,0,4095\n");
+}
+
+TEST_CASE("dataset csv: file round trip goes through an atomic write") {
+  TempDir dir("file");
+  const Dataset ds = awkward_dataset(true, true);
+  const std::string path = dir.file("out.csv");
+  iclap::write_dataset_csv(path, ds);
+  CHECK_FALSE(fs::exists(path + ".partial"));
+  check_identical(ds, iclap::read_dataset_csv(path));
+
+  // An invalid dataset writes nothing and leaves the old file as it was.
+  const std::string before = slurp(path);
+  Dataset bad = ds;
+  bad.frames[17].object = "a,b";
+  CHECK_THROWS_AS(iclap::write_dataset_csv(path, bad), iclap::InvalidArgument);
+  CHECK(slurp(path) == before);
+  CHECK_FALSE(fs::exists(path + ".partial"));
+}
+
+TEST_CASE("dataset csv: writer rejects invalid datasets naming the field") {
+  Dataset ds = awkward_dataset(true, false);
+  auto rejects = [](const Dataset& d, const std::string& argument) {
+    std::ostringstream out;
+    try {
+      iclap::write_dataset_csv(out, d);
+      FAIL("accepted");
+    } catch (const iclap::InvalidArgument& e) {
+      CHECK_MESSAGE(e.argument() == argument, e.what());
+    }
+    CHECK(out.str().empty());
+  };
+  Dataset d = ds;
+  d.frames[3].object = "quote\"d";
+  rejects(d, "dataset.frames[3].object");
+  d = ds;
+  d.frames[4].pressures(1, 1) = -1;
+  rejects(d, "dataset.frames[4].pressures");
+  d = ds;
+  d.frames[5].pressures(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  rejects(d, "dataset.frames[5].pressures");
+  d = ds;
+  d.frames[6].pressures.resize(2, 2);
+  rejects(d, "dataset.frames[6].pressures");
+  d = ds;
+  d.frames[7].time.reset();
+  rejects(d, "dataset.frames[7].time");
+  d = ds;
+  d.frames[8].position.y() = std::numeric_limits<double>::infinity();
+  rejects(d, "dataset.frames[8].position");
+  d = ds;
+  d.comments.push_back("two\nlines");
+  rejects(d, "dataset.comments[4]");
+  d = ds;
+  d.cols = 0;
+  rejects(d, "dataset.rows/cols");
+}
+
+TEST_CASE("dataset csv: reader accepts comments, any column order, CRLF and a BOM") {
+  const std::string text =
+      "# first\n#second\n\n"
+      "p1_1,z,p0_0,frame,y,object,t,x,exploration,p1_0,p0_1\n"
+      "4,0.3,1,5,0.2,obj,0.5,0.1,2,3,2\n";
+  const Dataset a = read_text(text);
+  REQUIRE(a.frames.size() == 1);
+  CHECK(a.comments == std::vector<std::string>{"first", "second"});
+  CHECK(a.rows == 2);
+  CHECK(a.cols == 2);
+  const Frame& f = a.frames[0];
+  CHECK(f.object == "obj");
+  CHECK(f.exploration == 2);
+  CHECK(f.frame == 5);
+  CHECK(f.position == Eigen::Vector3d(0.1, 0.2, 0.3));
+  REQUIRE(f.time.has_value());
+  CHECK(*f.time == 0.5);
+  CHECK_FALSE(f.orientation.has_value());
+  CHECK(f.pressures(0, 0) == 1);
+  CHECK(f.pressures(0, 1) == 2);
+  CHECK(f.pressures(1, 0) == 3);
+  CHECK(f.pressures(1, 1) == 4);
+
+  // Same content with CRLF and a byte-order mark.
+  std::string crlf = "\xEF\xBB\xBF";
+  for (char ch : text) {
+    if (ch == '\n') crlf += '\r';
+    crlf += ch;
+  }
+  check_identical(a, read_text(crlf));
+  // Without a final line break too.
+  check_identical(a, read_text(text.substr(0, text.size() - 1)));
+}
+
+TEST_CASE("dataset csv: unknown columns are ignored with a warning that names them") {
+  std::vector<DatasetWarning> warnings;
+  const Dataset ds = read_text(
+      "# c\nobject,note,exploration,frame,x,y,z,p0_0,,P0_1,p00_1\n"
+      "a,hello,0,0,1,2,3,7,x,y,z\n",
+      &warnings);
+  REQUIRE(ds.frames.size() == 1);
+  CHECK(ds.cols == 1);
+  CHECK(ds.frames[0].pressures(0, 0) == 7);
+  REQUIRE(warnings.size() == 4);
+  CHECK(warnings[0].line == 2);
+  CHECK(warnings[0].message == "ignoring unknown column 'note'");
+  CHECK(warnings[0].to_string() == "mem.csv:2: warning: ignoring unknown column 'note'");
+  CHECK(warnings[1].message == "ignoring unnamed column 9");
+  CHECK(warnings[2].message == "ignoring unknown column 'P0_1'");
+  CHECK(warnings[3].message == "ignoring unknown column 'p00_1'");
+}
+
+TEST_CASE("dataset csv: every malformed case of the spec is rejected with its line") {
+  const std::string h = kHeader;
+  const std::string ok = "a,0,0,0.1,0.2,0.3,1,2,3,4\n";
+  // Missing required columns (header on line 2, after one comment).
+  for (const std::string col : {"object", "exploration", "frame", "x", "y", "z"}) {
+    std::string header = "object,exploration,frame,x,y,z,p0_0";
+    const auto at = header.find(col + ",");
+    header.erase(at, col.size() + 1);
+    check_rejected("# c\n" + header + "\n", 2, "missing required column '" + col + "'");
+  }
+  check_rejected("object,exploration,frame,x,y,z\n" + ok, 1, "taxel columns");
+  // A hole in the taxel grid.
+  check_rejected("object,exploration,frame,x,y,z,p0_0,p0_1,p1_1\n", 1, "missing column 'p1_0'");
+  check_rejected("object,exploration,frame,x,y,z,p2_0\n", 1, "has a hole");
+  // Wrong number of fields.
+  check_rejected(h + ok + "a,0,1,0.1,0.2,0.3,1,2,3\n", 3, "expected 10 fields");
+  check_rejected(h + "a,0,1,0.1,0.2,0.3,1,2,3,4,5\n", 2, "got 11");
+  // Values that are not finite numbers.
+  for (const std::string v : {"abc", "nan", "inf", "-inf", "", "1.5.2", "0x10", "1e999", "+-1", "1 2"}) {
+    CAPTURE(v);
+    check_rejected(h + ok + ok + "a,0,0," + v + ",0.2,0.3,1,2,3,4\n", 4, "is not a finite number");
+    check_rejected(h + "a,0,0,0.1,0.2,0.3,1,2," + v + ",4\n", 2, "column 'p1_0'");
+  }
+  // Negative pressure.
+  check_rejected(h + ok + "a,0,0,0.1,0.2,0.3,1,-2,3,4\n", 3, "negative pressure -2");
+  // Non-integer exploration or frame.
+  for (const std::string v : {"1.5", "1e3", "x", "", "9223372036854775808"}) {
+    CAPTURE(v);
+    check_rejected(h + "a," + v + ",0,0.1,0.2,0.3,1,2,3,4\n", 2, "column 'exploration'");
+    check_rejected(h + ok + "a,0," + v + ",0.1,0.2,0.3,1,2,3,4\n", 3, "is not an integer");
+  }
+  // A quaternion with only some of its components.
+  check_rejected("object,exploration,frame,x,y,z,qw,qx,p0_0\n", 1,
+                 "quaternion has only some of its components: qw, qx present, qy, qz missing");
+  check_rejected("object,exploration,frame,x,y,z,qz,p0_0\n", 1, "quaternion");
+  // Also rejected: empty quaternion fields, duplicate columns, comments after
+  // the header, names with quotes, no header at all.
+  check_rejected("object,exploration,frame,x,y,z,qw,qx,qy,qz,p0_0\na,0,0,1,2,3,1,0,,0,5\n", 2,
+                 "column 'qy'");
+  check_rejected("object,exploration,frame,x,y,z,x,p0_0\n", 1, "duplicate column 'x'");
+  check_rejected("object,exploration,frame,x,y,z,p0_0,p0_0\n", 1, "duplicate column 'p0_0'");
+  check_rejected(h + ok + "# late\n", 3, "comment line after the header");
+  check_rejected(h + "\"a\",0,0,0.1,0.2,0.3,1,2,3,4\n", 2, "contains a quote");
+  check_rejected("# only a comment\n", 1, "no header row");
+  check_rejected("", 0, "no header row");
+}
+
+TEST_CASE("dataset csv: fixtures and summary helpers") {
+  std::vector<DatasetWarning> warnings;
+  const Dataset ds = iclap::read_dataset_csv(fixture("small.csv"),
+                                             [&](const DatasetWarning& w) { warnings.push_back(w); });
+  CHECK(warnings.empty());
+  CHECK(ds.rows == 2);
+  CHECK(ds.cols == 3);
+  CHECK(ds.frames.size() == 7);
+  CHECK(iclap::object_names(ds) == std::vector<std::string>{"pliers_1", "wooden_cuboid_1"});
+  CHECK(iclap::explorations_of(ds, "pliers_1") == std::vector<std::int64_t>{0, 1});
+  CHECK(iclap::explorations_of(ds, "wooden_cuboid_1") == std::vector<std::int64_t>{0});
+  CHECK(iclap::explorations_of(ds, "nothing").empty());
+  // Contacts: frame maxima are 0, 4095, 0, 15, 0, 310, 305.
+  CHECK(iclap::contact_frame_count(ds) == 3);
+  CHECK(iclap::contact_frame_count(ds, 10.0) == 4);
+  CHECK(iclap::contact_frame_count(ds, 0.0) == 4);
+  CHECK(iclap::contact_frame_count(ds, 4095.0) == 0);
+  const auto summary = iclap::summarize(ds);
+  REQUIRE(summary.size() == 2);
+  CHECK(summary[0].name == "pliers_1");
+  CHECK(summary[0].frames == 4);
+  CHECK(summary[0].contact_frames == 1);
+  CHECK(summary[1].explorations.size() == 1);
+  CHECK(summary[1].contact_frames == 2);
+
+  try {
+    iclap::read_dataset_csv(fixture("bad_negative_pressure.csv"));
+    FAIL("accepted");
+  } catch (const iclap::ParseError& e) {
+    CHECK(e.line() == 4);
+    CHECK(e.file() == fixture("bad_negative_pressure.csv"));
+  }
+  CHECK_THROWS_AS(iclap::read_dataset_csv(fixture("does_not_exist.csv")), iclap::IoError);
+}
+
+TEST_CASE("dataset csv appender: create, append, reopen, mismatched header, complete rows") {
+  TempDir dir("appender");
+  const std::string path = dir.file("log.csv");
+  const Dataset ds = awkward_dataset(true, true);
+  const iclap::DatasetColumns columns{ds.rows, ds.cols, true, true};
+  {
+    iclap::DatasetCsvAppender app(path, ds.rows, ds.cols, true, true, ds.comments);
+    CHECK(app.rows_in_file() == 0);
+    for (std::size_t i = 0; i < 25; ++i) {
+      app.append(ds.frames[i]);
+      // After every append the file is complete rows only and reads back.
+      const std::string text = slurp(path);
+      REQUIRE(text.back() == '\n');
+      CHECK(iclap::read_dataset_csv(path).frames.size() == i + 1);
+    }
+    CHECK(app.rows_in_file() == 25);
+    // An invalid frame writes nothing.
+    Frame bad = ds.frames[0];
+    bad.time.reset();
+    const std::string before = slurp(path);
+    CHECK_THROWS_AS(app.append(bad), iclap::InvalidArgument);
+    bad = ds.frames[0];
+    bad.pressures(0, 0) = -1;
+    CHECK_THROWS_AS(app.append(bad), iclap::InvalidArgument);
+    CHECK(slurp(path) == before);
+  }
+  {
+    // Reopen and append: the comments are not repeated.
+    iclap::DatasetCsvAppender app(path, columns, {"ignored on reopen"});
+    CHECK(app.rows_in_file() == 25);
+    CHECK(app.recovered_bytes() == 0);
+    for (std::size_t i = 25; i < ds.frames.size(); ++i) app.append(ds.frames[i]);
+    app.sync();
+  }
+  check_identical(ds, iclap::read_dataset_csv(path));
+  // The appender writes exactly what the writer writes.
+  std::ostringstream whole;
+  iclap::write_dataset_csv(whole, ds);
+  CHECK(slurp(path) == whole.str());
+
+  // A partial last row (crash mid-write) is cut off on reopen.
+  {
+    std::ofstream(path, std::ios::binary | std::ios::app) << "pliers_1,0,0,0.1,0.2";
+    iclap::DatasetCsvAppender app(path, columns);
+    CHECK(app.recovered_bytes() == std::string("pliers_1,0,0,0.1,0.2").size());
+    CHECK(app.rows_in_file() == ds.frames.size());
+  }
+  CHECK(slurp(path) == whole.str());
+
+  // Mismatched header: rejected with file and header line, file untouched.
+  const std::string before = slurp(path);
+  try {
+    iclap::DatasetCsvAppender app(path, ds.rows, ds.cols, false, true);
+    FAIL("accepted");
+  } catch (const iclap::ParseError& e) {
+    CHECK(e.file() == path);
+    CHECK(e.line() == ds.comments.size() + 1);
+    CHECK_MESSAGE(e.reason().find("unexpected 't'") != std::string::npos, e.what());
+  }
+  try {
+    iclap::DatasetCsvAppender app(path, ds.rows + 1, ds.cols, true, true);
+    FAIL("accepted");
+  } catch (const iclap::ParseError& e) {
+    CHECK_MESSAGE(e.reason().find("missing 'p3_0'") != std::string::npos, e.what());
+  }
+  CHECK(slurp(path) == before);
+}
+
+TEST_CASE("dataset csv appender: foreign column order and an empty file") {
+  TempDir dir("appender2");
+  const std::string path = dir.file("foreign.csv");
+  spit(path, "\xEF\xBB\xBF# exported\r\nz,y,x,p0_1,p0_0,frame,exploration,object\r\n0.3,0.2,0.1,2,1,0,0,a\r\n");
+  Frame f;
+  f.object = "b";
+  f.exploration = 4;
+  f.frame = 1;
+  f.position = {1, 2, 3};
+  f.pressures.resize(1, 2);
+  f.pressures << 5, 6;
+  {
+    iclap::DatasetCsvAppender app(path, 1, 2, false, false);
+    CHECK(app.rows_in_file() == 1);
+    app.append(f);
+  }
+  const Dataset ds = iclap::read_dataset_csv(path);
+  REQUIRE(ds.frames.size() == 2);
+  CHECK(ds.frames[1].object == "b");
+  CHECK(ds.frames[1].exploration == 4);
+  CHECK(ds.frames[1].position == Eigen::Vector3d(1, 2, 3));
+  CHECK(ds.frames[1].pressures(0, 1) == 6);
+  const std::string text = slurp(path);
+  const std::string tail = "\r\n3,2,1,6,5,1,4,b\n";
+  CHECK(text.compare(text.size() - tail.size(), tail.size(), tail) == 0);
+
+  const std::string empty = dir.file("empty.csv");
+  spit(empty, "");
+  {
+    iclap::DatasetCsvAppender app(empty, 1, 2, false, false, {"hello"});
+    app.append(f);
+  }
+  CHECK(slurp(empty) == "# hello\nobject,exploration,frame,x,y,z,p0_0,p0_1\nb,4,1,1,2,3,5,6\n");
+
+  // A file of comments only cannot be appended to.
+  const std::string headless = dir.file("headless.csv");
+  spit(headless, "# a\n# b\n");
+  CHECK_THROWS_AS(iclap::DatasetCsvAppender(headless, 1, 2, false, false), iclap::ParseError);
+}
