@@ -1,11 +1,16 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Small helpers shared by the rig tests.
+// Small helpers shared by the rig tests: hex dumps, random frames and
+// replies (through iclap::Rng, fixed seeds), message comparison.
 
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <variant>
 #include <vector>
+
+#include "iclap/core/random.hpp"
+#include "iclap/rig/wts_message.hpp"
 
 namespace iclap::rig::test {
 
@@ -19,6 +24,52 @@ inline std::string hex(const std::vector<std::uint8_t>& bytes) {
     out += buf;
   }
   return out;
+}
+
+/// A frame with random 12-bit taxels.
+inline TactileFrame random_frame(Rng& rng, const Grid& grid, std::uint32_t timestamp_ms) {
+  TactileFrame f;
+  f.timestamp_ms = timestamp_ms;
+  f.flags = static_cast<std::uint8_t>(rng.below(256));
+  f.texels.resize(grid.rows, grid.cols);
+  for (Index i = 0; i < f.texels.size(); ++i) f.texels.data()[i] = static_cast<std::uint16_t>(rng.below(4096));
+  return f;
+}
+
+/// A reply with a random id (not 0x00, not get matrix info), status and payload.
+inline Reply random_reply(Rng& rng) {
+  Reply r;
+  do {
+    r.id = static_cast<std::uint8_t>(1 + rng.below(255));
+  } while (r.id == wts_id::kGetMatrixInfo);
+  r.status = rng.below(4) == 0 ? static_cast<std::uint16_t>(rng.below(65536)) : 0;
+  r.payload.resize(rng.below(24));
+  for (auto& b : r.payload) b = static_cast<std::uint8_t>(rng.below(256));
+  return r;
+}
+
+/// Junk bytes, a third of them 0xAA so false preambles are common.
+inline Bytes random_junk(Rng& rng, std::size_t max_size) {
+  Bytes junk(rng.below(max_size + 1));
+  for (auto& b : junk) b = rng.below(3) == 0 ? 0xAA : static_cast<std::uint8_t>(rng.below(256));
+  return junk;
+}
+
+inline bool same(const WtsMessage& a, const WtsMessage& b) {
+  if (a.index() != b.index()) return false;
+  if (const auto* fa = std::get_if<TactileFrame>(&a)) {
+    const auto& fb = std::get<TactileFrame>(b);
+    return fa->timestamp_ms == fb.timestamp_ms && fa->flags == fb.flags && fa->texels.rows() == fb.texels.rows() &&
+           fa->texels.cols() == fb.texels.cols() && fa->texels == fb.texels;
+  }
+  const auto& ra = std::get<Reply>(a);
+  const auto& rb = std::get<Reply>(b);
+  return ra.id == rb.id && ra.status == rb.status && ra.payload == rb.payload;
+}
+
+inline Bytes encode(const WtsMessage& m) {
+  if (const auto* f = std::get_if<TactileFrame>(&m)) return encode_frame(*f);
+  return encode_reply(std::get<Reply>(m));
 }
 
 }  // namespace iclap::rig::test
