@@ -10,3 +10,4 @@
 #include "iclap/data/csv_reader.hpp"
 #include "iclap/data/csv_writer.hpp"
 #include "iclap/data/dataset.hpp"
+#include "iclap/data/ply_cloud.hpp"

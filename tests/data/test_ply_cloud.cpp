@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: MIT
+// Labeled point cloud export as PLY.
+
+#include <doctest/doctest.h>
+
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "iclap/data/ply_cloud.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::string temp_file(const std::string& name) {
+  return (fs::temp_directory_path() / ("iclap_test_ply_" + std::to_string(static_cast<long>(::getpid())) +
+                                       "_" + name))
+      .string();
+}
+
+}  // namespace
+
+TEST_CASE("labeled cloud ply: ascii content") {
+  Eigen::Matrix3Xd p(3, 3);
+  p << 0.1, -1.5, 1e-7,  //
+      0, 2, 3,           //
+      1.0 / 3.0, 4, 5;
+  const std::vector<int> labels = {0, 7, -1};
+  const std::string path = temp_file("ascii.ply");
+  iclap::write_labeled_cloud_ply(path, p, labels, {iclap::PlyEncoding::ascii, {"object pliers_1"}});
+  const std::string text = slurp(path);
+  fs::remove(path);
+  const auto c0 = iclap::label_colour(0), c7 = iclap::label_colour(7);
+  const std::string expected =
+      "ply\nformat ascii 1.0\ncomment written by iclap (labeled point cloud)\n"
+      "comment object pliers_1\nelement vertex 3\nproperty double x\nproperty double y\n"
+      "property double z\nproperty int label\nproperty uchar red\nproperty uchar green\n"
+      "property uchar blue\nend_header\n"
+      "0.1 0 0.3333333333333333 0 " +
+      std::to_string(c0[0]) + " " + std::to_string(c0[1]) + " " + std::to_string(c0[2]) +
+      "\n-1.5 2 4 7 " + std::to_string(c7[0]) + " " + std::to_string(c7[1]) + " " +
+      std::to_string(c7[2]) + "\n1e-07 3 5 -1 128 128 128\n";
+  CHECK(text == expected);
+  // Neighbouring labels are told apart by colour.
+  for (int l = 0; l < 50; ++l) CHECK(iclap::label_colour(l) != iclap::label_colour(l + 1));
+}
+
+TEST_CASE("labeled cloud ply: binary little endian layout") {
+  Eigen::Matrix3Xf p(3, 2);
+  p << 1, 2, 3, 4, 5, 6;
+  Eigen::VectorXi labels(2);
+  labels << 3, 258;
+  const std::string path = temp_file("binary.ply");
+  iclap::write_labeled_cloud_ply(path, p, labels, {iclap::PlyEncoding::binary_little_endian, {}});
+  const std::string data = slurp(path);
+  fs::remove(path);
+  const auto body_at = data.find("end_header\n");
+  REQUIRE(body_at != std::string::npos);
+  CHECK(data.find("format binary_little_endian 1.0\n") != std::string::npos);
+  CHECK(data.find("property float x\n") != std::string::npos);
+  const std::string body = data.substr(body_at + 11);
+  REQUIRE(body.size() == 2 * (3 * 4 + 4 + 3));
+  auto le32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    for (int b = 3; b >= 0; --b) v = (v << 8) | static_cast<unsigned char>(body[at + static_cast<std::size_t>(b)]);
+    return v;
+  };
+  auto f32 = [&](std::size_t at) {
+    const std::uint32_t bits = le32(at);
+    float f = 0;
+    std::memcpy(&f, &bits, 4);
+    return f;
+  };
+  CHECK(f32(0) == 1.0f);
+  CHECK(f32(4) == 3.0f);
+  CHECK(f32(8) == 5.0f);
+  CHECK(le32(12) == 3u);
+  CHECK(f32(19 + 4) == 4.0f);
+  CHECK(le32(19 + 12) == 258u);
+  const auto c = iclap::label_colour(258);
+  CHECK(static_cast<unsigned char>(body[19 + 16]) == c[0]);
+  CHECK(static_cast<unsigned char>(body[19 + 18]) == c[2]);
+}
+
+TEST_CASE("labeled cloud ply: bad input is rejected and writes nothing") {
+  const std::string path = temp_file("bad.ply");
+  Eigen::Matrix3Xd p = Eigen::Matrix3Xd::Zero(3, 2);
+  CHECK_THROWS_AS(iclap::write_labeled_cloud_ply(path, p, std::vector<int>{1}), iclap::DimensionMismatch);
+  Eigen::MatrixXd p4 = Eigen::MatrixXd::Zero(4, 2);
+  CHECK_THROWS_AS(iclap::write_labeled_cloud_ply(path, p4, std::vector<int>{1, 2}), iclap::DimensionMismatch);
+  p(2, 1) = std::numeric_limits<double>::quiet_NaN();
+  try {
+    iclap::write_labeled_cloud_ply(path, p, std::vector<int>{1, 2});
+    FAIL("accepted");
+  } catch (const iclap::NonFiniteValue& e) {
+    CHECK(e.row() == 2);
+    CHECK(e.column() == 1);
+  }
+  p(2, 1) = 0;
+  CHECK_THROWS_AS(iclap::write_labeled_cloud_ply(path, p, std::vector<long long>{1, 1LL << 40}),
+                  iclap::InvalidArgument);
+  CHECK_FALSE(fs::exists(path));
+  CHECK_FALSE(fs::exists(path + ".partial"));
+}
