@@ -1,0 +1,493 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "iclap/core/check.hpp"
+#include "iclap/core/error.hpp"
+#include "iclap/core/progress.hpp"
+#include "iclap/core/random.hpp"
+#include "iclap/core/types.hpp"
+#include "iclap/search/brute_force.hpp"
+#include "iclap/search/neighbor.hpp"
+#include "iclap/tactile/quantizer.hpp"
+#include "iclap/tactile/word_ordering.hpp"
+
+namespace iclap {
+
+/// What k-means does with a cluster that no feature is nearest to.
+enum class EmptyClusterPolicy {
+  /// Move the feature farthest from its own centre (among clusters that keep
+  /// at least one member) into the empty cluster and put the centre on it:
+  /// the worst-represented feature gets a word of its own. The default.
+  ReseedFarthest,
+  /// Leave the centre where it is; the word may stay unused. Reported in
+  /// KMeansResult::empty_clusters.
+  KeepCentre,
+};
+
+/// Why a k-means fit stopped. Stopping at the iteration limit is a normal
+/// outcome, not an error: the codebook is usable, just not converged.
+enum class KMeansStop {
+  AssignmentsStable,  ///< no feature changed word: a fixed point of Lloyd's iteration
+  RelativeChange,     ///< the inertia fell by at most relative_tolerance of itself
+  MaxIterations,      ///< settings.max_iterations centre updates were made
+};
+
+inline const char* to_string(KMeansStop s) noexcept {
+  switch (s) {
+    case KMeansStop::AssignmentsStable: return "assignments_stable";
+    case KMeansStop::RelativeChange: return "relative_change";
+    case KMeansStop::MaxIterations: return "max_iterations";
+  }
+  return "unknown";
+}
+
+/// The outcome of KMeansQuantizer::fit.
+struct KMeansResult {
+  bool converged = false;  ///< stop != MaxIterations
+  KMeansStop stop = KMeansStop::MaxIterations;
+  int iterations = 0;      ///< centre updates made (Lloyd iterations)
+  /// Sum over training features of the squared distance to their word's
+  /// centre, at the final centres (feature units squared).
+  double inertia = 0.0;
+  /// Number of times a cluster was re-seeded (EmptyClusterPolicy::ReseedFarthest).
+  Index reseeded = 0;
+  /// Words with no training feature at the end (only possible with
+  /// KeepCentre, or when re-seeding found no candidate).
+  Index empty_clusters = 0;
+  /// Full nearest-centre searches made, and the ones the triangle-inequality
+  /// test made unnecessary (settings.pruning); a measure of the speed-up.
+  std::int64_t searches = 0;
+  std::int64_t pruned = 0;
+  /// Word of every training feature (in feature order, after any word
+  /// ordering); equal to `assign(features.col(j))` for every j.
+  WordIds labels;
+  /// Training features per word.
+  WordIds cluster_sizes;
+};
+
+namespace detail {
+template <typename S, typename Scalar, int Dim, typename = void>
+struct is_search_policy : std::false_type {};
+template <typename S, typename Scalar, int Dim>
+struct is_search_policy<
+    S, Scalar, Dim,
+    std::void_t<typename S::Settings,
+                decltype(S(std::declval<Cloud<Scalar, Dim>>(), std::declval<const typename S::Settings&>())),
+                decltype(std::declval<const S&>().nearest(std::declval<const Scalar*>()))>>
+    : std::is_same<std::decay_t<decltype(std::declval<const S&>().nearest(std::declval<const Scalar*>()))>,
+                   Neighbor<Scalar>> {};
+}  // namespace detail
+
+/// The paper's codebook (Section III): k-means clustering of the training
+/// tactile features into k words; a feature's word is its nearest centre in
+/// Euclidean distance. Models the Quantizer concept (quantizer.hpp).
+///
+/// Fit: k-means++ seeding (Arthur and Vassilvitskii 2007) drawn from
+/// `iclap::Rng(settings.seed)`, then Lloyd iterations until no feature
+/// changes word, or the inertia falls by at most `relative_tolerance` of
+/// itself, or `max_iterations` centre updates. Single-threaded and
+/// deterministic: the same features, settings and build give the same
+/// codebook bit for bit on every run (sums in double, in feature order).
+///
+/// Assignment goes through the `Search` policy (BruteForceSearch or
+/// KdTreeSearch, both from iclap/search; identical answers, ties to the
+/// smaller word id), rebuilt on the centres each iteration. Brute force is
+/// the default: at the paper's scale (k = 50 words, 72-D Tactile-SIFT) a
+/// kd-tree cannot prune in 72 dimensions and only adds traversal cost
+/// (measured in benchmarks/bench_tactile.cpp). With `pruning` on, a feature
+/// whose distance to its own centre is below half the distance from that
+/// centre to every other centre (Elkan 2003, lemma 1; with a rounding margin)
+/// provably keeps its word and skips the search; the result is bit-identical
+/// to the unpruned fit, only faster.
+///
+/// After fit(), assign() is const and thread-safe; copies are independent
+/// (a KdTreeSearch policy shares its immutable tree).
+template <typename Scalar = float, int Dim = Eigen::Dynamic, typename Search = BruteForceSearch<Scalar, Dim>>
+class KMeansQuantizer {
+  ICLAP_CHECK_SCALAR_AND_DIM(Scalar, Dim);
+  static_assert(detail::is_search_policy<Search, Scalar, Dim>::value,
+                "iclap: KMeansQuantizer's Search must be a search policy over Cloud<Scalar, Dim> such as "
+                "iclap::BruteForceSearch<Scalar, Dim> or iclap::KdTreeSearch<Scalar, Dim> "
+                "(Search(Cloud, Settings), nearest(const Scalar*) -> Neighbor<Scalar>)");
+
+ public:
+  /// Training features, one per column; also the centres (one per word).
+  using Features = Cloud<Scalar, Dim>;
+  using Feature = Point<Scalar, Dim>;
+  using SearchPolicy = Search;
+
+  struct Settings {
+    /// Number of words (the paper uses 50), >= 1 and at most the number of
+    /// distinct training features.
+    Index k = 50;
+    /// Seed of the k-means++ draw.
+    std::uint64_t seed = 0;
+    /// Maximum number of centre updates, >= 0.
+    int max_iterations = 100;
+    /// Stop when (previous - current inertia) <= relative_tolerance *
+    /// previous inertia; >= 0 (0: only stable assignments or the limit stop).
+    double relative_tolerance = 1e-6;
+    EmptyClusterPolicy empty_clusters = EmptyClusterPolicy::ReseedFarthest;
+    WordOrdering ordering = WordOrdering::None;
+    /// Skip searches the triangle inequality proves unnecessary (exact).
+    bool pruning = true;
+    typename Search::Settings search{};
+  };
+
+  /// Public, as in the rest of iclap: `q.settings.k = 50;` before fit().
+  Settings settings;
+
+  KMeansQuantizer() = default;
+  explicit KMeansQuantizer(const Settings& s) : settings(s) {}
+
+  /// A quantizer whose words are the given centres (one per column), e.g. a
+  /// codebook read back from a file; settings.k becomes centres.cols() and
+  /// settings.ordering is not applied. Throws EmptyInput / NonFiniteValue
+  /// naming "centres".
+  static KMeansQuantizer from_centres(Features centres, const Settings& s = {}) {
+    check_not_empty(centres, "centres");
+    check_finite(centres, "centres");
+    KMeansQuantizer q(s);
+    q.settings.k = centres.cols();
+    q.install(std::move(centres));
+    return q;
+  }
+
+  /// Learns the codebook from `features` (one per column) with k-means++
+  /// seeding. Throws, leaving the quantizer unchanged: EmptyInput naming
+  /// "features"; NonFiniteValue naming "features" with the row (coordinate)
+  /// and column (feature index) of the first NaN or infinity;
+  /// InvalidArgument naming "settings.k" when k < 1 or k exceeds the number
+  /// of features or of distinct features (the message gives both numbers),
+  /// or naming another setting out of range. `progress` gets (iteration,
+  /// max_iterations). Cost O(iterations x n x k x d) without pruning; with
+  /// it, late iterations cost little more than O(n x d).
+  KMeansResult fit(const Features& features, const ProgressCallback& progress = {}) {
+    validate_settings();
+    check_features(features);
+    const Index n = features.cols();
+    if (settings.k > n)
+      throw InvalidArgument("settings.k", "k = " + std::to_string(settings.k) +
+                                              " exceeds the number of features (" + std::to_string(n) + ")");
+    Features centres = seed_plus_plus(features);
+    return run(features, std::move(centres), progress);
+  }
+
+  /// Same as fit() from user-chosen initial centres (one per column, exactly
+  /// settings.k of them, same dimension as the features) instead of
+  /// k-means++: a warm start from an older codebook, or a reproduction of
+  /// another implementation's initialisation.
+  /// Additionally throws DimensionMismatch / InvalidArgument naming
+  /// "initial_centres", and InvalidArgument naming "settings.k" when k
+  /// exceeds the number of distinct features.
+  KMeansResult fit_from(const Features& features, const Features& initial_centres,
+                        const ProgressCallback& progress = {}) {
+    validate_settings();
+    check_features(features);
+    check_not_empty(initial_centres, "initial_centres");
+    check_dimension(initial_centres.rows(), features.rows(), "initial_centres");
+    check_finite(initial_centres, "initial_centres");
+    if (initial_centres.cols() != settings.k)
+      throw InvalidArgument("initial_centres", "has " + std::to_string(initial_centres.cols()) +
+                                                   " columns but settings.k is " + std::to_string(settings.k));
+    const Index distinct = count_distinct(features);
+    if (settings.k > distinct) throw too_many_words(distinct);
+    return run(features, initial_centres, progress);
+  }
+
+  /// Number of words (0 before fit).
+  Index size() const noexcept { return centres_.cols(); }
+  /// Feature dimension (0 before fit).
+  Index dim() const noexcept { return centres_.rows(); }
+  bool fitted() const noexcept { return centres_.cols() > 0; }
+  /// The centre of each word, one per column, in word-id order.
+  const Features& centres() const noexcept { return centres_; }
+  /// The search structure over the centres (for batch or custom queries).
+  const Search& search() const noexcept { return search_; }
+
+  /// Word id in [0, size()) of the feature at `feature` (dim() values):
+  /// the nearest centre, ties to the smaller id. The fast path: the feature
+  /// is not checked. Throws InvalidArgument naming "quantizer" before fit.
+  Index assign(const Scalar* feature) const { return nearest(feature).index; }
+
+  /// Same for an Eigen vector; throws DimensionMismatch naming "feature" for
+  /// a wrong length and NonFiniteValue for NaN or infinity.
+  template <typename Derived>
+  Index assign(const Eigen::MatrixBase<Derived>& feature) const {
+    return nearest(feature).index;
+  }
+
+  /// The nearest word and its squared distance (e.g. to reject features far
+  /// from every word). Same contract as assign().
+  Neighbor<Scalar> nearest(const Scalar* feature) const {
+    if (!fitted()) throw InvalidArgument("quantizer", "is not fitted: call fit() first");
+    return search_.nearest(feature);
+  }
+
+  template <typename Derived>
+  Neighbor<Scalar> nearest(const Eigen::MatrixBase<Derived>& feature) const {
+    static_assert(Derived::ColsAtCompileTime == 1 || Derived::ColsAtCompileTime == Eigen::Dynamic,
+                  "iclap: assign() takes one feature (a column vector)");
+    if (!fitted()) throw InvalidArgument("quantizer", "is not fitted: call fit() first");
+    if (feature.cols() != 1) throw DimensionMismatch("feature.cols", 1, feature.cols());
+    check_dimension(feature.rows(), dim(), "feature");
+    const Feature f = feature.template cast<Scalar>();
+    check_finite(f, "feature");
+    return search_.nearest(f.data());
+  }
+
+ private:
+  /// Relative safety margin of the pruning test: a few times the worst
+  /// rounding error of a d-term sum of squares, so a pruned feature is
+  /// strictly nearer its own centre even in floating point.
+  static double pruning_margin(Index d) noexcept {
+    return 4.0 * static_cast<double>(d + 4) * static_cast<double>(std::numeric_limits<Scalar>::epsilon());
+  }
+
+  static double dist2(const Scalar* a, const Scalar* b, Index d) noexcept {
+    return static_cast<double>(detail::squared_distance<Dim>(a, b, d));
+  }
+
+  void validate_settings() const {
+    if (settings.k < 1) throw InvalidArgument("settings.k", "must be at least 1, got " + std::to_string(settings.k));
+    if (settings.max_iterations < 0)
+      throw InvalidArgument("settings.max_iterations",
+                            "must be >= 0, got " + std::to_string(settings.max_iterations));
+    if (!(settings.relative_tolerance >= 0.0) || !std::isfinite(settings.relative_tolerance))
+      throw InvalidArgument("settings.relative_tolerance",
+                            "must be finite and >= 0, got " + std::to_string(settings.relative_tolerance));
+  }
+
+  static void check_features(const Features& features) {
+    check_not_empty(features, "features");
+    check_finite(features, "features");
+  }
+
+  InvalidArgument too_many_words(Index distinct) const {
+    return InvalidArgument("settings.k", "k = " + std::to_string(settings.k) +
+                                             " exceeds the number of distinct features (" +
+                                             std::to_string(distinct) + ")");
+  }
+
+  /// Number of distinct columns of `features` (exact comparison).
+  static Index count_distinct(const Features& features) {
+    const Index n = features.cols();
+    const Index d = features.rows();
+    std::vector<Index> idx(static_cast<std::size_t>(n));
+    for (Index j = 0; j < n; ++j) idx[static_cast<std::size_t>(j)] = j;
+    const auto less = [&](Index a, Index b) {
+      for (Index i = 0; i < d; ++i) {
+        if (features(i, a) < features(i, b)) return true;
+        if (features(i, b) < features(i, a)) return false;
+      }
+      return false;
+    };
+    std::sort(idx.begin(), idx.end(), less);
+    Index distinct = n > 0 ? 1 : 0;
+    for (std::size_t j = 1; j < idx.size(); ++j)
+      if (less(idx[j - 1], idx[j])) ++distinct;
+    return distinct;
+  }
+
+  /// k-means++: the first centre uniformly, each next one with probability
+  /// proportional to the squared distance to the nearest chosen centre.
+  /// Chosen centres are distinct features; when every feature already
+  /// coincides with one before k are chosen, k exceeds the number of
+  /// distinct features, which is exactly the number chosen so far.
+  Features seed_plus_plus(const Features& features) const {
+    const Index n = features.cols();
+    const Index d = features.rows();
+    const Index k = settings.k;
+    Rng rng(settings.seed);
+    Features centres(d, k);
+    std::vector<double> d2(static_cast<std::size_t>(n));
+    Index chosen = static_cast<Index>(rng.below(static_cast<std::uint64_t>(n)));
+    centres.col(0) = features.col(chosen);
+    for (Index i = 0; i < n; ++i)
+      d2[static_cast<std::size_t>(i)] = dist2(features.col(i).data(), centres.col(0).data(), d);
+    for (Index c = 1; c < k; ++c) {
+      double total = 0.0;
+      for (const double v : d2) total += v;
+      if (!(total > 0.0)) throw too_many_words(c);
+      const double target = rng.uniform() * total;
+      double cumulative = 0.0;
+      chosen = -1;
+      for (Index i = 0; i < n; ++i) {
+        const double v = d2[static_cast<std::size_t>(i)];
+        if (v <= 0.0) continue;
+        chosen = i;  // the last candidate, should rounding leave target unreached
+        cumulative += v;
+        if (cumulative > target) break;
+      }
+      centres.col(c) = features.col(chosen);
+      for (Index i = 0; i < n; ++i) {
+        double& v = d2[static_cast<std::size_t>(i)];
+        v = std::min(v, dist2(features.col(i).data(), centres.col(c).data(), d));
+      }
+    }
+    return centres;
+  }
+
+  /// Lloyd's iteration from `centres`; installs the result on success.
+  KMeansResult run(const Features& features, Features centres, const ProgressCallback& progress) {
+    const Index n = features.cols();
+    const Index d = features.rows();
+    const Index k = settings.k;
+    const double margin = pruning_margin(d);
+
+    KMeansResult result;
+    WordIds labels = WordIds::Constant(n, -1);
+    WordIds sizes = WordIds::Zero(k);
+    std::vector<double> d2(static_cast<std::size_t>(n), 0.0);
+    std::vector<double> half_gap(static_cast<std::size_t>(k));
+    Eigen::Matrix<double, Dim, Eigen::Dynamic> sums(d, k);
+
+    // One assignment step against `centres`; returns the number of changed
+    // labels. Pruning needs a label to test, so not on the first step; the
+    // test itself proves the label is the strictly nearest centre whatever
+    // produced it, so it stays exact after a re-seed too.
+    const auto assign_step = [&](bool prune) {
+      const Search search(centres, settings.search);
+      if (prune) {
+        for (Index j = 0; j < k; ++j) {
+          double nearest_other = std::numeric_limits<double>::infinity();
+          for (Index o = 0; o < k; ++o)
+            if (o != j) nearest_other = std::min(nearest_other, dist2(centres.col(j).data(), centres.col(o).data(), d));
+          half_gap[static_cast<std::size_t>(j)] = 0.5 * std::sqrt(nearest_other) * (1.0 - margin);
+        }
+      }
+      Index changed = 0;
+      for (Index i = 0; i < n; ++i) {
+        const Scalar* x = features.col(i).data();
+        if (prune) {
+          const Index own = labels[i];
+          const double own_d2 = dist2(x, centres.col(own).data(), d);
+          if (std::sqrt(own_d2) * (1.0 + margin) < half_gap[static_cast<std::size_t>(own)]) {
+            d2[static_cast<std::size_t>(i)] = own_d2;
+            ++result.pruned;
+            continue;
+          }
+        }
+        const Neighbor<Scalar> nb = search.nearest(x);
+        ++result.searches;
+        if (nb.index != labels[i]) ++changed;
+        labels[i] = nb.index;
+        d2[static_cast<std::size_t>(i)] = static_cast<double>(nb.squared_distance);
+      }
+      sizes.setZero();
+      for (Index i = 0; i < n; ++i) ++sizes[labels[i]];
+      return changed;
+    };
+
+    // Empty clusters after an assignment step; returns how many were re-seeded.
+    const auto fix_empty = [&]() {
+      Index reseeded = 0;
+      if (settings.empty_clusters != EmptyClusterPolicy::ReseedFarthest) return reseeded;
+      for (Index j = 0; j < k; ++j) {
+        if (sizes[j] > 0) continue;
+        Index farthest = -1;
+        for (Index i = 0; i < n; ++i) {
+          if (sizes[labels[i]] < 2) continue;
+          if (farthest < 0 || d2[static_cast<std::size_t>(i)] > d2[static_cast<std::size_t>(farthest)]) farthest = i;
+        }
+        if (farthest < 0 || !(d2[static_cast<std::size_t>(farthest)] > 0.0)) continue;  // nothing to give
+        --sizes[labels[farthest]];
+        labels[farthest] = j;
+        sizes[j] = 1;
+        d2[static_cast<std::size_t>(farthest)] = 0.0;
+        centres.col(j) = features.col(farthest);
+        ++reseeded;
+      }
+      return reseeded;
+    };
+
+    const auto update_centres = [&]() {
+      sums.setZero();
+      for (Index i = 0; i < n; ++i) sums.col(labels[i]) += features.col(i).template cast<double>();
+      for (Index j = 0; j < k; ++j)
+        if (sizes[j] > 0) centres.col(j) = (sums.col(j) / static_cast<double>(sizes[j])).template cast<Scalar>();
+    };
+
+    const auto inertia = [&]() {
+      double sum = 0.0;
+      for (const double v : d2) sum += v;
+      return sum;
+    };
+
+    const auto max_iterations = static_cast<std::size_t>(settings.max_iterations);
+    assign_step(false);
+    Index reseeded_now = fix_empty();
+    result.reseeded += reseeded_now;
+    double previous = inertia();
+    if (progress) progress(0, max_iterations);
+    bool stopped = false;
+    for (int it = 1; it <= settings.max_iterations; ++it) {
+      update_centres();
+      const Index changed = assign_step(settings.pruning);
+      reseeded_now = fix_empty();
+      result.reseeded += reseeded_now;
+      result.iterations = it;
+      const double current = inertia();
+      if (progress) progress(static_cast<std::size_t>(it), max_iterations);
+      if (reseeded_now == 0) {
+        if (changed == 0) {
+          result.stop = KMeansStop::AssignmentsStable;
+          stopped = true;
+        } else if (previous - current <= settings.relative_tolerance * previous) {
+          result.stop = KMeansStop::RelativeChange;
+          stopped = true;
+        }
+      }
+      previous = current;
+      if (stopped) break;
+    }
+    if (!stopped) {
+      result.stop = KMeansStop::MaxIterations;
+      // A re-seed in the last step moved a centre after the features were
+      // assigned: assign once more so labels match assign() exactly.
+      if (reseeded_now > 0) assign_step(false);
+    }
+    if (progress && result.iterations < settings.max_iterations) progress(max_iterations, max_iterations);
+    result.converged = result.stop != KMeansStop::MaxIterations;
+    result.inertia = inertia();
+    result.empty_clusters = static_cast<Index>((sizes.array() == 0).count());
+
+    // Optional renumbering of the words (word_ordering.hpp).
+    const std::vector<Index> order = word_order(centres, settings.ordering);
+    Features ordered(d, k);
+    WordIds new_id(k);
+    for (Index j = 0; j < k; ++j) {
+      const Index old = order[static_cast<std::size_t>(j)];
+      ordered.col(j) = centres.col(old);
+      new_id[old] = j;
+    }
+    result.cluster_sizes.resize(k);
+    for (Index j = 0; j < k; ++j) result.cluster_sizes[new_id[j]] = sizes[j];
+    result.labels.resize(n);
+    for (Index i = 0; i < n; ++i) result.labels[i] = new_id[labels[i]];
+    install(std::move(ordered));
+    return result;
+  }
+
+  void install(Features centres) {
+    Search search(centres, settings.search);
+    centres_ = std::move(centres);
+    search_ = std::move(search);
+  }
+
+  Features centres_;
+  Search search_;
+};
+
+}  // namespace iclap

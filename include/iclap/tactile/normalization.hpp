@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include "iclap/core/error.hpp"
+#include "iclap/tactile/tactile_image.hpp"
+
+namespace iclap {
+
+/// How raw taxel pressures are rescaled before they are used as a feature.
+enum class PressureNormalization {
+  None,       ///< raw units, unchanged
+  FullScale,  ///< divided by the sensor's full scale (WTS: 4095), so in [0, 1]
+  Max,        ///< divided by the largest taxel: the peak becomes 1 (to rounding)
+  Sum,        ///< divided by the total pressure: the taxels sum to 1
+  L2,         ///< divided by the Euclidean norm of the grid: unit vector
+};
+
+/// Readable name of a normalisation ("none", "full_scale", "max", "sum", "l2").
+inline const char* to_string(PressureNormalization n) noexcept {
+  switch (n) {
+    case PressureNormalization::None: return "none";
+    case PressureNormalization::FullScale: return "full_scale";
+    case PressureNormalization::Max: return "max";
+    case PressureNormalization::Sum: return "sum";
+    case PressureNormalization::L2: return "l2";
+  }
+  return "unknown";
+}
+
+/// Throws InvalidArgument naming `argument` unless `full_scale` is finite and
+/// positive.
+inline void check_full_scale(double full_scale, const std::string& argument = "full_scale") {
+  if (!std::isfinite(full_scale) || full_scale <= 0.0)
+    throw InvalidArgument(argument, "must be finite and > 0, got " + std::to_string(full_scale));
+}
+
+/// The factor that multiplies every taxel of `image` under normalisation `n`
+/// (`full_scale` is used by FullScale only). A blank image (all zeros) gives
+/// 0 for Max, Sum and L2, so its normalised image is all zeros, never NaN.
+/// Allocation-free, O(rows * cols). Throws InvalidArgument for a bad
+/// `full_scale` when `n` is FullScale.
+inline double normalization_factor(const TactileImage& image, PressureNormalization n,
+                                   double full_scale = 4095.0) {
+  double denominator = 1.0;
+  switch (n) {
+    case PressureNormalization::None: return 1.0;
+    case PressureNormalization::FullScale:
+      check_full_scale(full_scale);
+      return 1.0 / full_scale;
+    case PressureNormalization::Max: denominator = image.max(); break;
+    case PressureNormalization::Sum: denominator = image.sum(); break;
+    case PressureNormalization::L2: denominator = image.pressures().stableNorm(); break;
+  }
+  return denominator > 0.0 ? 1.0 / denominator : 0.0;
+}
+
+/// The normalised grid (rows x cols), `image.pressures() * factor`. Allocates
+/// the result; descriptors use `normalization_factor` instead.
+inline Eigen::MatrixXd normalized(const TactileImage& image, PressureNormalization n,
+                                  double full_scale = 4095.0) {
+  return image.pressures() * normalization_factor(image, n, full_scale);
+}
+
+}  // namespace iclap

@@ -1,0 +1,558 @@
+// SPDX-License-Identifier: MIT
+// The k-means codebook, word ordering, the Quantizer concept, bag-of-words
+// histograms and E_BoW, and the whole tactile pipeline with user types.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "iclap/search/kdtree.hpp"
+#include "iclap/tactile/tactile.hpp"
+#include "synthetic_contacts.hpp"
+
+using namespace iclap;
+using iclap::test::ContactShape;
+
+// Every public class template, for float and double and both search
+// policies, so every member compiles.
+template class iclap::KMeansQuantizer<float, 72>;
+template class iclap::KMeansQuantizer<double>;
+template class iclap::KMeansQuantizer<float, Eigen::Dynamic, KdTreeSearch<float>>;
+template class iclap::KMeansQuantizer<double, 3, KdTreeSearch<double, 3>>;
+
+namespace {
+
+/// `per_blob` points around each of `centres` (one per column) with noise of
+/// half-width `noise`, blob after blob.
+template <typename Scalar, int Dim>
+Cloud<Scalar, Dim> blobs(const Eigen::MatrixXd& centres, Index per_blob, double noise, std::uint64_t seed) {
+  Rng rng(seed);
+  Cloud<Scalar, Dim> x(centres.rows(), centres.cols() * per_blob);
+  for (Index b = 0; b < centres.cols(); ++b)
+    for (Index i = 0; i < per_blob; ++i)
+      for (Index d = 0; d < centres.rows(); ++d)
+        x(d, b * per_blob + i) = static_cast<Scalar>(centres(d, b) + rng.uniform(-noise, noise));
+  return x;
+}
+
+Eigen::MatrixXd random_centres(Index dim, Index k, double spread, std::uint64_t seed) {
+  Rng rng(seed);
+  Eigen::MatrixXd c(dim, k);
+  for (Index j = 0; j < k; ++j)
+    for (Index d = 0; d < dim; ++d) c(d, j) = rng.uniform(-spread, spread);
+  return c;
+}
+
+template <typename M>
+bool bitwise_equal(const M& a, const M& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() &&
+         std::memcmp(a.data(), b.data(), sizeof(typename M::Scalar) * static_cast<std::size_t>(a.size())) == 0;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+TEST_CASE_TEMPLATE("k-means recovers well-separated blobs exactly", T, float, double) {
+  const Eigen::MatrixXd truth = random_centres(8, 5, 100.0, 11);
+  const auto x = blobs<T, Eigen::Dynamic>(truth, 40, 1.0, 12);
+  for (const bool kd : {false, true}) {
+    CAPTURE(kd);
+    WordIds labels;
+    Cloud<T, Eigen::Dynamic> centres;
+    if (kd) {
+      KMeansQuantizer<T, Eigen::Dynamic, KdTreeSearch<T>> q;
+      q.settings.k = 5;
+      const auto r = q.fit(x);
+      CHECK(r.converged);
+      labels = r.labels;
+      centres = q.centres();
+    } else {
+      KMeansQuantizer<T> q;
+      q.settings.k = 5;
+      const auto r = q.fit(x);
+      CHECK(r.converged);
+      CHECK(r.stop == KMeansStop::AssignmentsStable);
+      labels = r.labels;
+      centres = q.centres();
+    }
+    // Each blob is exactly one word, and the words are distinct.
+    std::set<Index> used;
+    for (Index b = 0; b < 5; ++b) {
+      const Index w = labels[b * 40];
+      for (Index i = 0; i < 40; ++i) CHECK(labels[b * 40 + i] == w);
+      used.insert(w);
+      // The word's centre is the blob's mean.
+      const Eigen::VectorXd mean = x.middleCols(b * 40, 40).template cast<double>().rowwise().mean();
+      CHECK((centres.col(w).template cast<double>() - mean).cwiseAbs().maxCoeff() < 1e-4);
+    }
+    CHECK(used.size() == 5);
+  }
+}
+
+TEST_CASE("k-means: the same seed gives the same codebook bit for bit; policies and pruning agree") {
+  // Overlapping clusters so Lloyd needs many iterations and pruning matters.
+  const auto x = blobs<float, 16>(random_centres(16, 12, 3.0, 21), 60, 2.5, 22);
+  KMeansQuantizer<float, 16> a, b, unpruned;
+  KMeansQuantizer<float, 16, KdTreeSearch<float, 16>> tree;
+  for (auto* s : {&a.settings, &b.settings, &unpruned.settings}) {
+    s->k = 12;
+    s->seed = 99;
+    s->relative_tolerance = 0.0;  // run to a fixed point
+  }
+  tree.settings.k = 12;
+  tree.settings.seed = 99;
+  tree.settings.relative_tolerance = 0.0;
+  unpruned.settings.pruning = false;
+  const auto ra = a.fit(x);
+  const auto rb = b.fit(x);
+  const auto ru = unpruned.fit(x);
+  const auto rt = tree.fit(x);
+  CHECK(ra.iterations > 3);
+  CHECK(ra.pruned > 0);
+  CHECK(ru.pruned == 0);
+  CHECK(bitwise_equal(a.centres(), b.centres()));
+  CHECK(ra.labels == rb.labels);
+  CHECK(ra.inertia == rb.inertia);
+  CHECK(bitwise_equal(a.centres(), unpruned.centres()));
+  CHECK(ra.labels == ru.labels);
+  CHECK(ra.iterations == ru.iterations);
+  CHECK(ra.inertia == ru.inertia);
+  CHECK(bitwise_equal(a.centres(), tree.centres()));
+  CHECK(ra.labels == rt.labels);
+
+  // A different seed is a different draw (here: a different first centre
+  // at least changes the codebook's numbering or values).
+  KMeansQuantizer<float, 16> c;
+  c.settings = a.settings;
+  c.settings.seed = 100;
+  c.fit(x);
+  CHECK_FALSE(bitwise_equal(a.centres(), c.centres()));
+}
+
+TEST_CASE("k-means: labels equal assign(), batch and single, before and after ordering") {
+  const auto x = blobs<float, Eigen::Dynamic>(random_centres(10, 7, 4.0, 31), 30, 2.0, 32);
+  for (WordOrdering ordering : {WordOrdering::None, WordOrdering::PrincipalAxis, WordOrdering::NearestNeighbourChain}) {
+    CAPTURE(to_string(ordering));
+    KMeansQuantizer<float> q;
+    q.settings.k = 7;
+    q.settings.ordering = ordering;
+    q.settings.max_iterations = 3;  // stop early: labels must still match assign()
+    const auto r = q.fit(x);
+    CHECK(q.size() == 7);
+    CHECK(q.dim() == 10);
+    CHECK(assign_words(q, x) == r.labels);
+    for (Index j = 0; j < x.cols(); ++j) CHECK(q.assign(x.col(j).data()) == r.labels[j]);
+    CHECK(r.cluster_sizes.sum() == x.cols());
+    for (Index w = 0; w < 7; ++w) CHECK(r.cluster_sizes[w] == (r.labels.array() == w).count());
+  }
+}
+
+TEST_CASE("k-means: an empty cluster is re-seeded from the farthest feature") {
+  // Two tight blobs and one outlier near blob A; the third initial centre is
+  // far from everything, so after the first assignment it is empty.
+  Cloud<double, 2> x(2, 21);
+  for (Index i = 0; i < 10; ++i) {
+    x.col(i) = Eigen::Vector2d(0.0 + 0.01 * static_cast<double>(i), 0.0);
+    x.col(10 + i) = Eigen::Vector2d(10.0 + 0.01 * static_cast<double>(i), 0.0);
+  }
+  x.col(20) = Eigen::Vector2d(0.0, 3.0);  // the feature farthest from its centre
+  Cloud<double, 2> initial(2, 3);
+  initial << 0.0, 10.0, 500.0,  //
+      0.0, 0.0, 500.0;
+
+  KMeansQuantizer<double, 2> q;
+  q.settings.k = 3;
+  const auto r = q.fit_from(x, initial);
+  CHECK(r.reseeded >= 1);
+  CHECK(r.empty_clusters == 0);
+  CHECK(r.converged);
+  // The outlier got the re-seeded word, alone, with the centre on it.
+  CHECK(r.labels[20] == 2);
+  CHECK(r.cluster_sizes[2] == 1);
+  CHECK(q.centres().col(2).isApprox(Eigen::Vector2d(0.0, 3.0)));
+  for (Index i = 0; i < 10; ++i) {
+    CHECK(r.labels[i] == 0);
+    CHECK(r.labels[10 + i] == 1);
+  }
+
+  // KeepCentre leaves the word empty and the centre where it was.
+  KMeansQuantizer<double, 2> keep;
+  keep.settings.k = 3;
+  keep.settings.empty_clusters = EmptyClusterPolicy::KeepCentre;
+  const auto rk = keep.fit_from(x, initial);
+  CHECK(rk.reseeded == 0);
+  CHECK(rk.empty_clusters == 1);
+  CHECK(rk.cluster_sizes[2] == 0);
+  CHECK(keep.centres().col(2) == Eigen::Vector2d(500.0, 500.0));
+}
+
+TEST_CASE("k-means: identical features, k = 1, and k = number of distinct features") {
+  const Cloud<float, Eigen::Dynamic> same = Cloud<float, Eigen::Dynamic>::Constant(5, 30, 0.25f);
+  KMeansQuantizer<float> one;
+  one.settings.k = 1;
+  const auto r1 = one.fit(same);
+  CHECK(r1.converged);
+  CHECK(r1.inertia == 0.0);
+  CHECK(one.centres().col(0) == same.col(0));
+
+  KMeansQuantizer<float> two;
+  two.settings.k = 2;
+  try {
+    two.fit(same);
+    FAIL("k = 2 on one distinct feature accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "settings.k");
+    const std::string what = e.what();
+    CHECK(what.find("k = 2") != std::string::npos);
+    CHECK(what.find("distinct features (1)") != std::string::npos);
+  }
+  CHECK_FALSE(two.fitted());  // a failed fit leaves the quantizer as it was
+  CHECK_THROWS_AS(two.fit_from(same, Cloud<float, Eigen::Dynamic>::Zero(5, 2)), InvalidArgument);
+
+  // k = 1 on spread data: the centre is the mean.
+  const auto x = blobs<double, 3>(random_centres(3, 4, 5.0, 41), 25, 1.0, 42);
+  KMeansQuantizer<double, 3> mean_only;
+  mean_only.settings.k = 1;
+  mean_only.fit(x);
+  CHECK(mean_only.centres().col(0).isApprox(x.rowwise().mean(), 1e-12));
+
+  // 7 distinct features, each repeated: k = 7 gives each its own word. Float
+  // features are summed in double, so a centre of identical members is that
+  // member exactly.
+  Cloud<float, 3> dup(3, 35);
+  const Eigen::MatrixXf distinct = random_centres(3, 7, 1.0, 43).cast<float>();
+  for (Index i = 0; i < 35; ++i) dup.col(i) = distinct.col((i * 3) % 7);
+  KMeansQuantizer<float, 3> seven;
+  seven.settings.k = 7;
+  const auto r7 = seven.fit(dup);
+  CHECK(r7.inertia == 0.0);
+  CHECK(r7.empty_clusters == 0);
+  std::set<Index> words(r7.labels.data(), r7.labels.data() + r7.labels.size());
+  CHECK(words.size() == 7);
+  for (Index i = 0; i < 35; ++i) CHECK(seven.centres().col(r7.labels[i]) == dup.col(i));
+  seven.settings.k = 8;
+  try {
+    seven.fit(dup);
+    FAIL("k = 8 on 7 distinct features accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(std::string(e.what()).find("k = 8 exceeds the number of distinct features (7)") != std::string::npos);
+  }
+  seven.settings.k = 36;
+  try {
+    seven.fit(dup);
+    FAIL("k = 36 on 35 features accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(std::string(e.what()).find("k = 36 exceeds the number of features (35)") != std::string::npos);
+  }
+}
+
+TEST_CASE("k-means: bad input is a typed error naming argument, row and column") {
+  Cloud<float, Eigen::Dynamic> x = Cloud<float, Eigen::Dynamic>::Random(4, 20);
+  x(2, 13) = std::numeric_limits<float>::quiet_NaN();
+  KMeansQuantizer<float> q;
+  q.settings.k = 3;
+  try {
+    q.fit(x);
+    FAIL("NaN accepted");
+  } catch (const NonFiniteValue& e) {
+    CHECK(e.argument() == "features");
+    CHECK(e.row() == 2);
+    CHECK(e.column() == 13);
+  }
+  x(2, 13) = std::numeric_limits<float>::infinity();
+  CHECK_THROWS_AS(q.fit(x), NonFiniteValue);
+  CHECK_THROWS_AS(q.fit(Cloud<float, Eigen::Dynamic>(4, 0)), EmptyInput);
+
+  x(2, 13) = 0.0f;
+  const auto setting_error = [&](auto change, const std::string& name) {
+    KMeansQuantizer<float> bad;
+    bad.settings.k = 3;
+    change(bad.settings);
+    try {
+      bad.fit(x);
+      FAIL("accepted bad " << name);
+    } catch (const InvalidArgument& e) {
+      CHECK(e.argument() == name);
+    }
+  };
+  using S = KMeansQuantizer<float>::Settings;
+  setting_error([](S& s) { s.k = 0; }, "settings.k");
+  setting_error([](S& s) { s.max_iterations = -1; }, "settings.max_iterations");
+  setting_error([](S& s) { s.relative_tolerance = std::numeric_limits<double>::quiet_NaN(); }, "settings.relative_tolerance");
+
+  // assign() before fit, with a wrong length, or with NaN.
+  CHECK_THROWS_AS(q.assign(Eigen::VectorXf::Zero(4)), InvalidArgument);
+  q.fit(x);
+  CHECK_THROWS_AS(q.assign(Eigen::VectorXf::Zero(5)), DimensionMismatch);
+  Eigen::VectorXf nan_feature = Eigen::VectorXf::Zero(4);
+  nan_feature[1] = std::numeric_limits<float>::quiet_NaN();
+  CHECK_THROWS_AS(q.assign(nan_feature), NonFiniteValue);
+  CHECK_THROWS_AS(q.fit_from(x, Cloud<float, Eigen::Dynamic>::Zero(3, 3)), DimensionMismatch);
+  CHECK_THROWS_AS(q.fit_from(x, Cloud<float, Eigen::Dynamic>::Zero(4, 2)), InvalidArgument);
+}
+
+TEST_CASE("k-means: iteration limit, progress and from_centres") {
+  const auto x = blobs<float, Eigen::Dynamic>(random_centres(6, 9, 3.0, 51), 40, 2.5, 52);
+  KMeansQuantizer<float> q;
+  q.settings.k = 9;
+  q.settings.max_iterations = 0;
+  const auto r0 = q.fit(x);
+  CHECK_FALSE(r0.converged);
+  CHECK(r0.stop == KMeansStop::MaxIterations);
+  CHECK(r0.iterations == 0);
+  CHECK(assign_words(q, x) == r0.labels);
+
+  std::vector<std::size_t> done;
+  std::size_t total = 0;
+  q.settings.max_iterations = 50;
+  const auto r = q.fit(x, [&](std::size_t d, std::size_t t) {
+    done.push_back(d);
+    total = t;
+  });
+  CHECK(total == 50);
+  REQUIRE(done.size() >= 2);
+  CHECK(std::is_sorted(done.begin(), done.end()));
+  CHECK(done.back() == 50);
+  CHECK(r.iterations <= 50);
+
+  const auto copy = KMeansQuantizer<float>::from_centres(q.centres());
+  CHECK(copy.size() == 9);
+  CHECK(assign_words(copy, x) == assign_words(q, x));
+  CHECK_THROWS_AS(KMeansQuantizer<float>::from_centres(Cloud<float, Eigen::Dynamic>(6, 0)), EmptyInput);
+}
+
+TEST_CASE("word ordering: neighbouring ids are neighbouring centroids") {
+  // 8 clusters on a line through 12-D space, numbered in a scrambled order by
+  // plain k-means; both orderings must number them along the line.
+  const Eigen::VectorXd direction = random_centres(12, 1, 1.0, 61).col(0).normalized();
+  Eigen::MatrixXd truth(12, 8);
+  const double positions[8] = {5, -2, 9, 0, 14, -7, 3, 11};
+  for (Index j = 0; j < 8; ++j) truth.col(j) = 10.0 * positions[j] * direction;
+  const auto x = blobs<double, Eigen::Dynamic>(truth, 20, 0.5, 62);
+
+  KMeansQuantizer<double> plain;
+  plain.settings.k = 8;
+  const auto rp = plain.fit(x);
+  for (WordOrdering ordering : {WordOrdering::PrincipalAxis, WordOrdering::NearestNeighbourChain}) {
+    CAPTURE(to_string(ordering));
+    KMeansQuantizer<double> q;
+    q.settings.k = 8;
+    q.settings.ordering = ordering;
+    const auto r = q.fit(x);
+    std::vector<double> along(8);
+    for (Index w = 0; w < 8; ++w) along[static_cast<std::size_t>(w)] = q.centres().col(w).dot(direction);
+    const bool increasing = std::is_sorted(along.begin(), along.end());
+    const bool decreasing = std::is_sorted(along.rbegin(), along.rend());
+    CHECK((increasing || decreasing));
+    // Ordering only renames: same partition, inertia and set of centres.
+    CHECK(r.inertia == rp.inertia);
+    for (Index i = 0; i < x.cols(); ++i)
+      for (Index j = 0; j < x.cols(); ++j)
+        if (rp.labels[i] == rp.labels[j]) CHECK(r.labels[i] == r.labels[j]);
+    for (Index w = 0; w < 8; ++w) CHECK(q.centres().col(w) == plain.centres().col(plain.assign(q.centres().col(w))));
+  }
+  // None keeps the clustering's numbering, which here is not along the line.
+  std::vector<double> along(8);
+  for (Index w = 0; w < 8; ++w) along[static_cast<std::size_t>(w)] = plain.centres().col(w).dot(direction);
+  CHECK_FALSE((std::is_sorted(along.begin(), along.end()) || std::is_sorted(along.rbegin(), along.rend())));
+  CHECK(word_order(plain.centres(), WordOrdering::None) == std::vector<Index>{0, 1, 2, 3, 4, 5, 6, 7});
+}
+
+// ---------------------------------------------------------------------------
+TEST_CASE("bag of words: histograms and the histogram intersection distance") {
+  const WordHistogram h = word_histogram(std::vector<Index>{0, 2, 2, 3}, 4);
+  CHECK(h.sum() == doctest::Approx(1.0));
+  CHECK(h[0] == 0.25);
+  CHECK(h[1] == 0.0);
+  CHECK(h[2] == 0.5);
+  CHECK(h[3] == 0.25);
+  CHECK(word_histogram(WordIds::Constant(3, 1), 2) == Eigen::Vector2d(0.0, 1.0));
+
+  CHECK(histogram_intersection_distance(h, h) == doctest::Approx(0.0));
+  const WordHistogram disjoint = word_histogram(std::vector<int>{1, 1}, 4);
+  CHECK(histogram_intersection_distance(h, disjoint) == 1.0);
+  // 1 - (min(.25,.5) + min(.5,.5)) = 0.25
+  const WordHistogram other = word_histogram(std::vector<int>{0, 2}, 4);
+  CHECK(histogram_intersection_distance(h, other) == doctest::Approx(0.25));
+  CHECK(histogram_intersection_distance(other, h) == doctest::Approx(0.25));  // symmetric when normalised
+
+  // Empty inputs and malformed histograms are errors.
+  CHECK_THROWS_AS(word_histogram(std::vector<Index>{}, 4), EmptyInput);
+  CHECK_THROWS_AS(word_histogram(std::vector<Index>{0, 4}, 4), InvalidArgument);
+  CHECK_THROWS_AS(word_histogram(std::vector<Index>{-1}, 4), InvalidArgument);
+  CHECK_THROWS_AS(word_histogram(std::vector<Index>{0}, 0), InvalidArgument);
+  CHECK_THROWS_AS(histogram_intersection_distance(Eigen::VectorXd(), h), EmptyInput);
+  CHECK_THROWS_AS(histogram_intersection_distance(h, Eigen::VectorXd()), EmptyInput);
+  CHECK_THROWS_AS(histogram_intersection_distance(h, Eigen::Vector3d(0.5, 0.5, 0.0)), DimensionMismatch);
+  try {
+    histogram_intersection_distance(h, Eigen::Vector4d(1, 1, 0, 0));
+    FAIL("unnormalised histogram accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "h_class");
+  }
+  CHECK_THROWS_AS(histogram_intersection_distance(Eigen::Vector2d(1.5, -0.5), Eigen::Vector2d(0.5, 0.5)), InvalidArgument);
+
+  // Per-group histograms (e.g. one per object).
+  const Eigen::MatrixXd per_object = word_histograms(std::vector<Index>{0, 1, 1, 2, 2, 2}, std::vector<Index>{0, 0, 0, 1, 1, 2}, 3, 3);
+  CHECK(per_object.col(0).isApprox(Eigen::Vector3d(1.0 / 3, 2.0 / 3, 0.0)));
+  CHECK(per_object.col(1) == Eigen::Vector3d(0, 0, 1));
+  CHECK(per_object.col(2) == Eigen::Vector3d(0, 0, 1));
+  CHECK_THROWS_AS(word_histograms(std::vector<Index>{0, 1}, std::vector<Index>{0}, 3, 1), DimensionMismatch);
+  CHECK_THROWS_AS(word_histograms(std::vector<Index>{0, 1}, std::vector<Index>{0, 0}, 3, 2), EmptyInput);
+  CHECK_THROWS_AS(word_histograms(std::vector<Index>{0, 1}, std::vector<Index>{0, 2}, 3, 2), InvalidArgument);
+  CHECK_THROWS_AS(word_histograms(std::vector<Index>{}, std::vector<Index>{}, 3, 1), EmptyInput);
+}
+
+// ---------------------------------------------------------------------------
+namespace {
+
+/// A user descriptor defined outside the library: the fraction of taxels
+/// above 25%, 50% and 75% of the peak, and the peak's share of the total.
+struct ShapeFractions {
+  Eigen::Vector4d compute(const TactileImage& image) const {
+    const double peak = image.max();
+    if (!(peak > 0)) return Eigen::Vector4d::Zero();
+    const auto n = static_cast<double>(image.size());
+    return {static_cast<double>(image.count_above(0.25 * peak)) / n,
+            static_cast<double>(image.count_above(0.5 * peak)) / n,
+            static_cast<double>(image.count_above(0.75 * peak)) / n, peak / image.sum()};
+  }
+};
+
+/// A user quantizer defined outside the library: words are the nearest of
+/// `k` prototypes taken at even intervals from the training features.
+struct EveryNthPrototype {
+  Index k = 4;
+  Eigen::MatrixXd prototypes;
+  template <typename Features>
+  void fit(const Features& features) {
+    prototypes.resize(features.rows(), k);
+    for (Index j = 0; j < k; ++j) prototypes.col(j) = features.col(j * features.cols() / k).template cast<double>();
+  }
+  template <typename Feature>
+  Index assign(const Feature& f) const {
+    Index best = 0;
+    (prototypes.colwise() - f.template cast<double>()).colwise().squaredNorm().minCoeff(&best);
+    return best;
+  }
+  Index size() const { return prototypes.cols(); }
+};
+
+/// A broken quantizer: returns an id outside its vocabulary.
+struct OffByOne {
+  template <typename F>
+  void fit(const F&) {}
+  template <typename F>
+  Index assign(const F&) const { return 2; }
+  Index size() const { return 2; }
+};
+struct NoAssign {
+  template <typename F>
+  void fit(const F&) {}
+  Index size() const { return 1; }
+};
+
+/// Training and test touches of three synthetic objects that differ in the
+/// mix of contact shapes they produce.
+struct Objects {
+  std::vector<TactileImage> train, test;
+  std::vector<Index> train_object, test_object;
+};
+Objects make_objects(std::uint64_t seed) {
+  const std::vector<ContactShape> shapes{ContactShape::Blob, ContactShape::Ridge, ContactShape::Edge,
+                                         ContactShape::Corner, ContactShape::Flat};
+  const std::vector<std::vector<double>> mix{{8, 1, 0.5, 0.5, 0}, {0.5, 8, 1, 0, 0.5}, {0, 0.5, 6, 3, 0.5}};
+  Objects o;
+  Rng rng(seed);
+  for (Index object = 0; object < 3; ++object) {
+    for (const auto& p : test::synthetic_contacts(120, rng, shapes, mix[static_cast<std::size_t>(object)])) {
+      o.train.emplace_back(p);
+      o.train_object.push_back(object);
+    }
+    for (const auto& p : test::synthetic_contacts(40, rng, shapes, mix[static_cast<std::size_t>(object)])) {
+      o.test.emplace_back(p);
+      o.test_object.push_back(object);
+    }
+  }
+  return o;
+}
+
+/// Descriptor -> quantizer fit -> words -> histograms -> E_BoW: returns the
+/// number of the three test sets whose nearest class is their own object.
+template <typename Descriptor, typename Quantizer>
+int pipeline_correct(const Descriptor& descriptor, Quantizer& quantizer, const Objects& o, Index k) {
+  const auto train_features = extract_features(descriptor, o.train);
+  quantizer.fit(train_features);
+  const WordIds train_words = assign_words(quantizer, train_features);
+  const Eigen::MatrixXd h_class = word_histograms(train_words, o.train_object, k, 3);
+  const WordIds test_words = assign_words(quantizer, extract_features(descriptor, o.test));
+  const Eigen::MatrixXd h_test = word_histograms(test_words, o.test_object, k, 3);
+  int correct = 0;
+  for (Index t = 0; t < 3; ++t) {
+    Index best = -1;
+    double best_distance = 2.0;
+    for (Index c = 0; c < 3; ++c) {
+      const double e = histogram_intersection_distance(h_test.col(t), h_class.col(c));
+      CHECK(e >= 0.0);
+      CHECK(e <= 1.0);
+      if (e < best_distance) {
+        best_distance = e;
+        best = c;
+      }
+    }
+    if (best == t) ++correct;
+  }
+  return correct;
+}
+
+}  // namespace
+
+TEST_CASE("quantizer concept: shipped and user types model it, others do not") {
+  static_assert(is_quantizer_for_v<KMeansQuantizer<float, 72>, Cloud<float, 72>>);
+  static_assert(is_quantizer_for_v<KMeansQuantizer<float>, Cloud<float, 72>>);  // via Dynamic
+  static_assert(is_quantizer_for_v<EveryNthPrototype, Eigen::MatrixXd>);
+  static_assert(!is_quantizer_for_v<NoAssign, Eigen::MatrixXd>);
+  static_assert(!is_quantizer_for_v<int, Eigen::MatrixXd>);
+  static_assert(!is_quantizer_for_v<EveryNthPrototype, std::vector<double>>);
+  CHECK(true);  // compile-time checks above
+}
+
+TEST_CASE("pipeline with a user descriptor and the k-means codebook") {
+  const Objects o = make_objects(71);
+  const ShapeFractions descriptor;
+  KMeansQuantizer<double, 4> quantizer;
+  quantizer.settings.k = 12;
+  CHECK(pipeline_correct(descriptor, quantizer, o, 12) == 3);
+}
+
+TEST_CASE("pipeline with Tactile-SIFT and a user quantizer") {
+  const Objects o = make_objects(72);
+  EveryNthPrototype quantizer;
+  quantizer.k = 30;
+  CHECK(pipeline_correct(TactileSift<>(), quantizer, o, 30) == 3);
+}
+
+TEST_CASE("pipeline with the paper's setting: Tactile-SIFT and k-means") {
+  const Objects o = make_objects(73);
+  KMeansQuantizer<float, 72> quantizer;
+  quantizer.settings.k = 20;
+  CHECK(pipeline_correct(TactileSift<>(), quantizer, o, 20) == 3);
+}
+
+TEST_CASE("assign_words catches a quantizer that returns ids outside its vocabulary") {
+  const Eigen::MatrixXd features = Eigen::MatrixXd::Zero(3, 4);
+  try {
+    assign_words(OffByOne(), features);
+    FAIL("out-of-range word accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "quantizer");
+    CHECK(std::string(e.what()).find("word 2") != std::string::npos);
+  }
+  CHECK_THROWS_AS(assign_words(KMeansQuantizer<double>(), features), InvalidArgument);  // not fitted
+}

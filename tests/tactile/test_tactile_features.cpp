@@ -1,0 +1,520 @@
+// SPDX-License-Identifier: MIT
+// Tactile images, contact test, normalisations and the shipped descriptors
+// (Tactile-SIFT, raw pressures, image moments), plus the Descriptor concept.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "iclap/tactile/tactile.hpp"
+#include "synthetic_contacts.hpp"
+
+using namespace iclap;
+using iclap::test::ContactShape;
+
+// Every public class template, for float and double, so every member compiles.
+template class iclap::TactileSift<float>;
+template class iclap::TactileSift<double>;
+template class iclap::TactileSift<float, Eigen::Dynamic, Eigen::Dynamic>;
+template class iclap::TactileSift<double, 2, 4>;
+template class iclap::RawPressures<float>;
+template class iclap::RawPressures<double, 14, 6>;
+template class iclap::MomentsDescriptor<float>;
+template class iclap::MomentsDescriptor<double>;
+
+namespace {
+
+constexpr double kPi = 3.141592653589793238462643383279502884;
+
+Eigen::MatrixXd mirror_columns(const Eigen::MatrixXd& m) { return m.rowwise().reverse(); }
+Eigen::MatrixXd mirror_rows(const Eigen::MatrixXd& m) { return m.colwise().reverse(); }
+
+/// 90-degree rotation of a square grid: B(r, c) = A(n-1-c, r).
+Eigen::MatrixXd rotate90(const Eigen::MatrixXd& a) {
+  const Index n = a.rows();
+  Eigen::MatrixXd b(n, n);
+  for (Index r = 0; r < n; ++r)
+    for (Index c = 0; c < n; ++c) b(r, c) = a(n - 1 - c, r);
+  return b;
+}
+
+template <typename Vec>
+bool all_finite(const Vec& v) {
+  for (Index i = 0; i < v.size(); ++i)
+    if (!std::isfinite(static_cast<double>(v[i]))) return false;
+  return true;
+}
+
+Index sift_index(int sp, int dn, int cell_row, int cell_col, int bin) {
+  return (Index(cell_row) * sp + cell_col) * dn + bin;
+}
+
+int wrap(int b, int dn) { return ((b % dn) + dn) % dn; }
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+TEST_CASE("TactileImage validates its pressures and names the argument") {
+  Eigen::MatrixXd p = Eigen::MatrixXd::Constant(14, 6, 10.0);
+  const TactileImage image(p);
+  CHECK(image.rows() == 14);
+  CHECK(image.cols() == 6);
+  CHECK(image.size() == 84);
+  CHECK(image.max() == 10.0);
+  CHECK(image.sum() == 840.0);
+
+  p(3, 2) = std::numeric_limits<double>::quiet_NaN();
+  try {
+    TactileImage bad(p, "frames[7].pressures");
+    FAIL("NaN accepted");
+  } catch (const NonFiniteValue& e) {
+    CHECK(e.argument() == "frames[7].pressures");
+    CHECK(e.row() == 3);
+    CHECK(e.column() == 2);
+  }
+  p(3, 2) = -1.0;
+  try {
+    TactileImage bad(p);
+    FAIL("negative pressure accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "pressures");
+    CHECK(std::string(e.what()).find("row 3, column 2") != std::string::npos);
+  }
+  CHECK_THROWS_AS(TactileImage(Eigen::MatrixXd(0, 6)), EmptyInput);
+  CHECK_THROWS_AS(TactileImage(Eigen::MatrixXd(14, 0)), EmptyInput);
+
+  // From any Eigen expression, e.g. integer readings.
+  const Eigen::MatrixXi raw = Eigen::MatrixXi::Constant(2, 3, 4095);
+  CHECK(TactileImage::from(raw).sum() == 6 * 4095.0);
+}
+
+TEST_CASE("contact: a frame passes when enough taxels are strictly above the threshold") {
+  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(14, 6);
+  CHECK_FALSE(is_contact(TactileImage(p)));  // blank pad, threshold 0
+  p(4, 4) = 30.0;
+  const TactileImage one(p);
+  CHECK(is_contact(one));
+  CHECK(is_contact(one, 29.0));
+  CHECK_FALSE(is_contact(one, 30.0));  // "at or below the threshold" is no contact
+  CHECK_FALSE((ContactDetector{10.0, 2}(one)));
+  p(5, 4) = 12.0;
+  CHECK((ContactDetector{10.0, 2}(TactileImage(p))));
+  CHECK_THROWS_AS(is_contact(one, -1.0), InvalidArgument);
+  CHECK_THROWS_AS(is_contact(one, std::numeric_limits<double>::quiet_NaN()), InvalidArgument);
+  CHECK_THROWS_AS((ContactDetector{0.0, 0}(one)), InvalidArgument);
+}
+
+TEST_CASE("pressure normalisations") {
+  Eigen::MatrixXd p(2, 2);
+  p << 1, 2, 3, 4;
+  const TactileImage image(p);
+  CHECK(normalized(image, PressureNormalization::None) == p);
+  CHECK(normalized(image, PressureNormalization::FullScale, 8.0)(1, 1) == doctest::Approx(0.5));
+  CHECK(normalized(image, PressureNormalization::Max).maxCoeff() == doctest::Approx(1.0));
+  CHECK(normalized(image, PressureNormalization::Sum).sum() == doctest::Approx(1.0));
+  CHECK(normalized(image, PressureNormalization::L2).norm() == doctest::Approx(1.0));
+  CHECK_THROWS_AS(normalized(image, PressureNormalization::FullScale, 0.0), InvalidArgument);
+
+  const TactileImage blank(Eigen::MatrixXd::Zero(14, 6));
+  for (auto n : {PressureNormalization::Max, PressureNormalization::Sum, PressureNormalization::L2}) {
+    CAPTURE(to_string(n));
+    const Eigen::MatrixXd z = normalized(blank, n);
+    CHECK(z.allFinite());
+    CHECK(z.isZero(0.0));
+  }
+}
+
+// ---------------------------------------------------------------------------
+TEST_CASE("Tactile-SIFT: paper default is a fixed 72-element vector, other sp/dn give sp*sp*dn") {
+  static_assert(TactileSift<>::kLength == 72, "paper setting dn = 8, sp = 3");
+  static_assert(std::is_same_v<TactileSift<>::Feature, Eigen::Matrix<float, 72, 1>>);
+  static_assert(TactileSift<double, 2, 4>::kLength == 16);
+  static_assert(DynamicTactileSift<>::kLength == Eigen::Dynamic);
+
+  Rng rng(1);
+  const TactileImage image(test::synthetic_contact(ContactShape::Corner, rng));
+  CHECK(TactileSift<>().compute(image).size() == 72);
+  CHECK(TactileSift<double, 2, 4>().compute(image).size() == 16);
+  for (int sp : {1, 2, 4, 5}) {
+    for (int dn : {1, 4, 6, 12}) {
+      DynamicTactileSift<float>::Settings s;
+      s.sp = sp;
+      s.dn = dn;
+      const DynamicTactileSift<float> sift(s);
+      const auto f = sift.compute(image);
+      CHECK(f.size() == sp * sp * dn);
+      CHECK(sift.length() == sp * sp * dn);
+      CHECK(all_finite(f));
+      CHECK(f.norm() == doctest::Approx(1.0).epsilon(1e-5));
+    }
+  }
+}
+
+TEST_CASE("Tactile-SIFT: settings are validated and name the setting") {
+  const auto fails_on = [](auto settings, const std::string& name) {
+    try {
+      DynamicTactileSift<float> sift(settings);
+      FAIL("accepted bad " << name);
+    } catch (const InvalidArgument& e) {
+      CHECK(e.argument() == name);
+    }
+  };
+  DynamicTactileSift<float>::Settings s;
+  s.sp = 0;
+  fails_on(s, "settings.sp");
+  s = {};
+  s.dn = 0;
+  fails_on(s, "settings.dn");
+  s = {};
+  s.upsample = 0;
+  fails_on(s, "settings.upsample");
+  s = {};
+  s.box_overlap = 1.0;
+  fails_on(s, "settings.box_overlap");
+  s = {};
+  s.window_sigma = -1.0;
+  fails_on(s, "settings.window_sigma");
+  s = {};
+  s.clip = 0.0;
+  fails_on(s, "settings.clip");
+
+  TactileSift<>::Settings fixed;
+  fixed.sp = 4;  // the type fixes sp = 3
+  CHECK_THROWS_AS(TactileSift<>{fixed}, InvalidArgument);
+}
+
+TEST_CASE("Tactile-SIFT: gradient orientation convention") {
+  // Pressure rising along columns: every gradient points along +x, bin 0.
+  Eigen::MatrixXd ramp(14, 6);
+  for (Index r = 0; r < 14; ++r)
+    for (Index c = 0; c < 6; ++c) ramp(r, c) = 50.0 + 100.0 * static_cast<double>(c);
+  const auto fx = TactileSift<double>().compute(TactileImage(ramp));
+  // Pressure rising along rows: +y, bin dn/4 = 2.
+  Eigen::MatrixXd ramp_y(14, 6);
+  for (Index r = 0; r < 14; ++r)
+    for (Index c = 0; c < 6; ++c) ramp_y(r, c) = 50.0 + 100.0 * static_cast<double>(r);
+  const auto fy = TactileSift<double>().compute(TactileImage(ramp_y));
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      for (int b = 0; b < 8; ++b) {
+        CAPTURE(i);
+        CAPTURE(j);
+        CAPTURE(b);
+        CHECK((fx[sift_index(3, 8, i, j, b)] > 0.0) == (b == 0));
+        CHECK((fy[sift_index(3, 8, i, j, b)] > 0.0) == (b == 2));
+      }
+    }
+  }
+}
+
+TEST_CASE("Tactile-SIFT: blank and uniform images give zeros, never NaN") {
+  for (double level : {0.0, 1000.0, 4095.0}) {
+    const TactileImage flat(Eigen::MatrixXd::Constant(14, 6, level));
+    const auto f = TactileSift<>().compute(flat);
+    CHECK(all_finite(f));
+    CHECK(f.isZero(0.0f));
+  }
+  // Tiny pressures must not underflow into NaN either.
+  Eigen::MatrixXd tiny = Eigen::MatrixXd::Zero(14, 6);
+  for (double level : {1e-300, 4.9e-324, 1e300}) {  // 4.9e-324: the smallest subnormal
+    tiny(3, 3) = level;
+    const auto f = TactileSift<double>().compute(TactileImage(tiny));
+    CHECK(all_finite(f));
+    CHECK(f.norm() == doctest::Approx(1.0));
+  }
+}
+
+TEST_CASE("Tactile-SIFT: a uniform pressure scaling leaves it unchanged") {
+  Rng rng(2);
+  for (auto spatial : {SiftSpatialBinning::Soft, SiftSpatialBinning::Box}) {
+    for (int upsample : {1, 2}) {
+      TactileSift<double>::Settings s;
+      s.spatial = spatial;
+      s.upsample = upsample;
+      const TactileSift<double> sift(s);
+      for (ContactShape shape : test::kAllShapes) {
+        const Eigen::MatrixXd p = test::synthetic_contact(shape, rng);
+        const auto a = sift.compute(TactileImage(p));
+        for (double scale : {2.0, 0.37, 1000.0}) {
+          const auto b = sift.compute(TactileImage(p * scale));
+          CHECK((a - b).cwiseAbs().maxCoeff() < 1e-12);
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("Tactile-SIFT: L2Clip is L2, clip, L2 again") {
+  Rng rng(3);
+  TactileSift<double>::Settings l2;
+  l2.normalization = SiftNormalization::L2;
+  TactileSift<double>::Settings clipped;  // default: L2Clip at 0.2
+  for (ContactShape shape : test::kAllShapes) {
+    const TactileImage image(test::synthetic_contact(shape, rng));
+    const Eigen::VectorXd v = TactileSift<double>(l2).compute(image);
+    Eigen::VectorXd expected = v.cwiseMin(0.2);
+    expected /= expected.norm();
+    const Eigen::VectorXd got = TactileSift<double>(clipped).compute(image);
+    CHECK((got - expected).cwiseAbs().maxCoeff() < 1e-12);
+    // Without normalisation the histograms carry the pressure scale.
+    TactileSift<double>::Settings raw;
+    raw.normalization = SiftNormalization::None;
+    const Eigen::VectorXd r = TactileSift<double>(raw).compute(image);
+    CHECK((r / r.norm() - v).cwiseAbs().maxCoeff() < 1e-12);
+  }
+}
+
+TEST_CASE("Tactile-SIFT: a mirrored image gives the permuted descriptor") {
+  // Left-right mirror: x -> -x, so cell column j -> sp-1-j and the gradient
+  // angle theta -> pi - theta, i.e. bin b (centred on 2 pi b / dn) -> dn/2 - b.
+  // Top-bottom mirror: y -> -y, cell row i -> sp-1-i and theta -> -theta,
+  // i.e. bin b -> -b (mod dn).
+  struct Case {
+    int sp, dn, upsample;
+    SiftSpatialBinning spatial;
+    double window_sigma;
+  };
+  const Case cases[] = {{3, 8, 1, SiftSpatialBinning::Soft, 0.0}, {3, 8, 1, SiftSpatialBinning::Box, 0.0},
+                        {3, 8, 2, SiftSpatialBinning::Soft, 0.0}, {2, 4, 1, SiftSpatialBinning::Soft, 0.5},
+                        {4, 6, 3, SiftSpatialBinning::Box, 0.3},  {5, 12, 1, SiftSpatialBinning::Soft, 0.0}};
+  Rng rng(4);
+  for (const Case& k : cases) {
+    DynamicTactileSift<double>::Settings s;
+    s.sp = k.sp;
+    s.dn = k.dn;
+    s.upsample = k.upsample;
+    s.spatial = k.spatial;
+    s.window_sigma = k.window_sigma;
+    const DynamicTactileSift<double> sift(s);
+    for (ContactShape shape : test::kAllShapes) {
+      const Eigen::MatrixXd p = test::synthetic_contact(shape, rng);
+      const Eigen::VectorXd f = sift.compute(TactileImage(p));
+      const Eigen::VectorXd lr = sift.compute(TactileImage(mirror_columns(p)));
+      const Eigen::VectorXd tb = sift.compute(TactileImage(mirror_rows(p)));
+      double worst_lr = 0.0, worst_tb = 0.0;
+      for (int i = 0; i < k.sp; ++i) {
+        for (int j = 0; j < k.sp; ++j) {
+          for (int b = 0; b < k.dn; ++b) {
+            const double original = f[sift_index(k.sp, k.dn, i, j, b)];
+            worst_lr = std::max(worst_lr, std::abs(lr[sift_index(k.sp, k.dn, i, k.sp - 1 - j, wrap(k.dn / 2 - b, k.dn))] - original));
+            worst_tb = std::max(worst_tb, std::abs(tb[sift_index(k.sp, k.dn, k.sp - 1 - i, j, wrap(-b, k.dn))] - original));
+          }
+        }
+      }
+      CAPTURE(k.sp);
+      CAPTURE(k.dn);
+      CAPTURE(k.upsample);
+      CHECK(worst_lr < 1e-9);
+      CHECK(worst_tb < 1e-9);
+      // ...and the mirror is not trivially equal to the original.
+      if (shape == ContactShape::Corner) CHECK((lr - f).cwiseAbs().maxCoeff() > 1e-3);
+    }
+  }
+}
+
+TEST_CASE("Tactile-SIFT: soft binning varies smoothly as a contact moves") {
+  // A blob moving by a tenth of a taxel changes the descriptor a little.
+  Eigen::MatrixXd a(14, 6), b(14, 6);
+  for (Index r = 0; r < 14; ++r) {
+    for (Index c = 0; c < 6; ++c) {
+      const double dy = static_cast<double>(r) - 6.0, dx = static_cast<double>(c) - 2.3;
+      a(r, c) = 3000.0 * std::exp(-(dx * dx + dy * dy) / 2.0);
+      b(r, c) = 3000.0 * std::exp(-((dx - 0.1) * (dx - 0.1) + dy * dy) / 2.0);
+    }
+  }
+  const TactileSift<double> sift;
+  CHECK((sift.compute(TactileImage(a)) - sift.compute(TactileImage(b))).norm() < 0.1);
+}
+
+// ---------------------------------------------------------------------------
+TEST_CASE("raw pressures: row-major order, normalisation, fixed grid") {
+  Eigen::MatrixXd p(2, 3);
+  p << 0, 1, 2,  //
+      3, 4, 5;
+  RawPressures<double>::Settings none;
+  none.normalization = PressureNormalization::None;
+  const Eigen::VectorXd f = RawPressures<double>(none).compute(TactileImage(p));
+  REQUIRE(f.size() == 6);
+  for (Index i = 0; i < 6; ++i) CHECK(f[i] == static_cast<double>(i));
+  const auto unit = RawPressures<float>().compute(TactileImage(p));
+  CHECK(unit.norm() == doctest::Approx(1.0f));
+  CHECK(RawPressures<float>().compute(TactileImage(2.0 * p)).isApprox(unit));
+
+  static_assert(RawPressures<float, 14, 6>::kLength == 84);
+  Rng rng(5);
+  const TactileImage wts(test::synthetic_contact(ContactShape::Ridge, rng));
+  CHECK(RawPressures<float, 14, 6>().compute(wts).size() == 84);
+  CHECK_THROWS_AS((RawPressures<float, 14, 6>().compute(TactileImage(p))), DimensionMismatch);
+  CHECK(RawPressures<float>().compute(TactileImage(Eigen::MatrixXd::Zero(14, 6))).isZero(0.0f));
+  RawPressures<float>::Settings bad;
+  bad.full_scale = -1;
+  CHECK_THROWS_AS(RawPressures<float>{bad}, InvalidArgument);
+}
+
+// ---------------------------------------------------------------------------
+TEST_CASE("moments: a single taxel") {
+  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(14, 6);
+  p(3, 1) = 700.0;
+  const ImageMoments m = compute_moments(TactileImage(p));
+  CHECK(m.total == 700.0);
+  CHECK(m.centroid.x() == doctest::Approx(1.0 - 2.5));
+  CHECK(m.centroid.y() == doctest::Approx(3.0 - 6.5));
+  CHECK(m.mu20 == 0.0);
+  CHECK(m.mu02 == 0.0);
+  CHECK(m.mu11 == 0.0);
+  CHECK(m.orientation == 0.0);
+  for (double h : m.hu) CHECK(h == 0.0);
+}
+
+TEST_CASE("moments: bars give the expected centroid and orientation") {
+  Eigen::MatrixXd row_bar = Eigen::MatrixXd::Zero(14, 6);
+  row_bar.row(5).setConstant(1000.0);
+  const ImageMoments h = compute_moments(TactileImage(row_bar));
+  CHECK(h.centroid.x() == doctest::Approx(0.0));
+  CHECK(h.centroid.y() == doctest::Approx(5.0 - 6.5));
+  CHECK(h.mu20 == doctest::Approx(35.0 / 12.0));  // variance of -2.5..2.5
+  CHECK(h.mu02 == doctest::Approx(0.0));
+  CHECK(h.orientation == doctest::Approx(0.0));
+
+  Eigen::MatrixXd col_bar = Eigen::MatrixXd::Zero(14, 6);
+  col_bar.col(2).setConstant(1000.0);
+  const ImageMoments v = compute_moments(TactileImage(col_bar));
+  CHECK(v.centroid.x() == doctest::Approx(2.0 - 2.5));
+  CHECK(v.centroid.y() == doctest::Approx(0.0));
+  CHECK(v.mu02 == doctest::Approx((14.0 * 14.0 - 1.0) / 12.0));
+  CHECK(v.orientation == doctest::Approx(kPi / 2));  // (-pi/2, pi/2]: +pi/2, not -pi/2
+
+  Eigen::MatrixXd diagonal = Eigen::MatrixXd::Zero(6, 6);
+  Eigen::MatrixXd anti = Eigen::MatrixXd::Zero(6, 6);
+  for (Index i = 0; i < 6; ++i) {
+    diagonal(i, i) = 500.0;
+    anti(i, 5 - i) = 500.0;
+  }
+  CHECK(compute_moments(TactileImage(diagonal)).orientation == doctest::Approx(kPi / 4));
+  CHECK(compute_moments(TactileImage(anti)).orientation == doctest::Approx(-kPi / 4));
+}
+
+TEST_CASE("moments: Hu invariants survive a 90-degree rotation and a pressure scaling") {
+  Rng rng(6);
+  for (ContactShape shape : test::kAllShapes) {
+    const Eigen::MatrixXd p = test::synthetic_contact(shape, rng, 8, 8);
+    const ImageMoments a = compute_moments(TactileImage(p));
+    const ImageMoments b = compute_moments(TactileImage(rotate90(p)));
+    const ImageMoments c = compute_moments(TactileImage(p * 3.5));
+    for (std::size_t i = 0; i < 7; ++i) {
+      CAPTURE(i);
+      const double tol = 1e-9 * std::max(1.0, std::abs(a.hu[i]));
+      CHECK(std::abs(a.hu[i] - b.hu[i]) <= tol);
+      CHECK(std::abs(a.hu[i] - c.hu[i]) <= tol);
+    }
+    // Rotation swaps the variances and turns the orientation by 90 degrees.
+    CHECK(b.mu20 == doctest::Approx(a.mu02));
+    CHECK(b.mu02 == doctest::Approx(a.mu20));
+  }
+  // A non-trivial invariant is not constant: a bar and a blob differ.
+  Eigen::MatrixXd bar = Eigen::MatrixXd::Zero(8, 8);
+  bar.row(2).setConstant(100.0);
+  Eigen::MatrixXd blob = Eigen::MatrixXd::Zero(8, 8);
+  blob.block(3, 3, 2, 2).setConstant(100.0);
+  CHECK(compute_moments(TactileImage(bar)).hu[1] > compute_moments(TactileImage(blob)).hu[1] + 0.1);
+}
+
+TEST_CASE("moments descriptor: layout, blank image, invariance") {
+  static_assert(MomentsDescriptor<float>::kLength == 15);
+  const MomentsDescriptor<double> moments;
+  CHECK(moments.compute(TactileImage(Eigen::MatrixXd::Zero(14, 6))).isZero(0.0));
+
+  Eigen::MatrixXd bar = Eigen::MatrixXd::Zero(14, 6);
+  bar.col(1).setConstant(4095.0);
+  const auto f = moments.compute(TactileImage(bar));
+  CHECK(f[0] == doctest::Approx(14.0 / 84.0));      // mean pressure / full scale
+  CHECK(f[1] == doctest::Approx((1.0 - 2.5) / 14.0));  // centroid x / longer side
+  CHECK(f[6] == doctest::Approx(-1.0));             // a line along y: anisotropy (-1, 0)
+  CHECK(f[7] == doctest::Approx(0.0));
+
+  Rng rng(7);
+  for (ContactShape shape : test::kAllShapes) {
+    const Eigen::MatrixXd p = test::synthetic_contact(shape, rng);
+    const auto a = moments.compute(TactileImage(p));
+    const auto b = moments.compute(TactileImage(p * 0.25));
+    CHECK(all_finite(a));
+    CHECK(b[0] == doctest::Approx(a[0] * 0.25));
+    CHECK((a.tail(14) - b.tail(14)).cwiseAbs().maxCoeff() < 1e-9);
+  }
+}
+
+// ---------------------------------------------------------------------------
+namespace {
+
+/// A user descriptor: where the peak is and how spread the contact is.
+struct PeakDescriptor {
+  Eigen::Matrix<float, 3, 1> compute(const TactileImage& image) const {
+    Index r = 0, c = 0;
+    const double peak = image.pressures().maxCoeff(&r, &c);
+    const double spread = peak > 0 ? static_cast<double>(image.count_above(0.5 * peak)) / static_cast<double>(image.size()) : 0.0;
+    return {static_cast<float>(r) / static_cast<float>(image.rows()),
+            static_cast<float>(c) / static_cast<float>(image.cols()), static_cast<float>(spread)};
+  }
+};
+struct NoCompute {};
+struct ReturnsStdVector {
+  std::vector<float> compute(const TactileImage&) const { return {}; }
+};
+struct ReturnsIntVector {
+  Eigen::VectorXi compute(const TactileImage&) const { return {}; }
+};
+struct NonConstCompute {
+  Eigen::VectorXf compute(const TactileImage&) { return {}; }
+};
+struct NaNDescriptor {
+  Eigen::Vector2d compute(const TactileImage& image) const {
+    return {image.max() > 100 ? std::numeric_limits<double>::quiet_NaN() : 0.0, 1.0};
+  }
+};
+struct VaryingLength {
+  Eigen::VectorXd compute(const TactileImage& image) const { return Eigen::VectorXd::Zero(image.rows()); }
+};
+
+}  // namespace
+
+TEST_CASE("descriptor concept: shipped and user types model it, others do not") {
+  static_assert(is_descriptor_v<TactileSift<>>);
+  static_assert(is_descriptor_v<DynamicTactileSift<double>>);
+  static_assert(is_descriptor_v<RawPressures<float, 14, 6>>);
+  static_assert(is_descriptor_v<MomentsDescriptor<double>>);
+  static_assert(is_descriptor_v<PeakDescriptor>);
+  static_assert(!is_descriptor_v<NoCompute>);
+  static_assert(!is_descriptor_v<ReturnsStdVector>);
+  static_assert(!is_descriptor_v<ReturnsIntVector>);
+  static_assert(!is_descriptor_v<NonConstCompute>);
+  static_assert(!is_descriptor_v<int>);
+  static_assert(DescriptorTraits<PeakDescriptor>::length == 3);
+  static_assert(std::is_same_v<FeaturesOf<TactileSift<>>, Cloud<float, 72>>);
+  static_assert(std::is_same_v<FeaturesOf<DynamicTactileSift<double>>, Cloud<double, Eigen::Dynamic>>);
+  CHECK(true);  // the checks above are compile-time
+}
+
+TEST_CASE("extract_features: one column per image, in order, with typed errors") {
+  Rng rng(8);
+  std::vector<TactileImage> images;
+  for (int i = 0; i < 10; ++i) images.emplace_back(test::synthetic_contact(test::kAllShapes[i % 5], rng));
+  const Cloud<float, 72> sift = extract_features(TactileSift<>(), images);
+  REQUIRE(sift.cols() == 10);
+  for (Index j = 0; j < 10; ++j) CHECK(sift.col(j) == TactileSift<>().compute(images[static_cast<std::size_t>(j)]));
+  const auto peaks = extract_features(PeakDescriptor(), images);
+  CHECK(peaks.rows() == 3);
+
+  CHECK_THROWS_AS(extract_features(TactileSift<>(), std::vector<TactileImage>()), EmptyInput);
+  try {
+    extract_features(NaNDescriptor(), images);
+    FAIL("NaN feature accepted");
+  } catch (const NonFiniteValue& e) {
+    CHECK(e.argument() == "features");
+    CHECK(e.row() == 0);
+    CHECK(e.column() == 0);
+  }
+  std::vector<TactileImage> mixed{TactileImage(Eigen::MatrixXd::Zero(14, 6)), TactileImage(Eigen::MatrixXd::Zero(8, 8))};
+  CHECK_THROWS_AS(extract_features(VaryingLength(), mixed), DimensionMismatch);
+}
