@@ -212,11 +212,13 @@ class PtyFakeSensor {
       const std::size_t at = 3 + damage.below(packet.size() - 3);
       packet[at] ^= static_cast<std::uint8_t>(1u << damage.below(8));
     }
+    {  // bookkeeping first: the host may see the frame as soon as it is written
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!started_) ++stale_;
+      else (corrupt ? corrupted_ : intact_).push_back(seq);
+    }
     append_out(packet);
     flush_out(std::chrono::milliseconds(2000));
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (!started_) ++stale_;
-    else (corrupt ? corrupted_ : intact_).push_back(seq);
   }
 
   void append_out(const Bytes& b) { out_.insert(out_.end(), b.begin(), b.end()); }
@@ -248,8 +250,8 @@ class PtyFakeSensor {
       std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    unplugged_ = true;  // before the close: the host may look as soon as it sees the hang-up
     close_master();
-    unplugged_ = true;
   }
 
   void close_master() {

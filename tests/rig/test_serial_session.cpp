@@ -1,0 +1,328 @@
+// SPDX-License-Identifier: MIT
+// The POSIX serial transport and the WTS sensor session, end to end through
+// a real OS serial device: a pseudo-terminal with the fake sensor on its
+// master side. Also pose sources and frame sources.
+
+#include <doctest/doctest.h>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "fake_wts_sensor.hpp"
+#include "iclap/data/csv_writer.hpp"
+#include "iclap/rig/dataset_frame_source.hpp"
+#include "iclap/rig/pose_spec.hpp"
+#include "iclap/rig/sensor_frame_source.hpp"
+#include "iclap/rig/serial_port.hpp"
+#include "iclap/rig/wts_sensor.hpp"
+
+using namespace iclap::rig;
+using namespace std::chrono_literals;
+using test::FakeSensorScript;
+using test::PtyFakeSensor;
+
+namespace {
+
+// Reads frames until `timeout` passes without one; returns their sequence
+// numbers after checking each frame's content against the fake's recipe.
+std::vector<std::size_t> read_frames(WtsSensor& sensor, std::uint64_t seed, std::chrono::milliseconds quiet = 300ms) {
+  std::vector<std::size_t> seqs;
+  while (auto f = sensor.next_frame(quiet)) {
+    const std::size_t seq = test::fake_frame_seq(f->texels(0, 0), f->texels(0, 1));
+    const TactileFrame expected = test::fake_frame(seed, seq, *sensor.grid());
+    CHECK(f->texels == expected.texels);
+    CHECK(f->timestamp_ms == expected.timestamp_ms);
+    seqs.push_back(seq);
+  }
+  return seqs;
+}
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("iclap_rig_" + std::to_string(::getpid()) + "_" + name)).string();
+}
+
+}  // namespace
+
+TEST_CASE("Serial port: open errors name the path and the cause") {
+  try {
+    SerialPort p("/dev/iclap-no-such-port");
+    FAIL("opened a missing port");
+  } catch (const TransportError& e) {
+    CHECK(e.path() == "/dev/iclap-no-such-port");
+    CHECK(std::string(e.what()).find("No such file") != std::string::npos);
+  }
+  const std::string file = temp_path("not_a_tty");
+  std::ofstream(file) << "x";
+  try {
+    SerialPort p(file);
+    FAIL("opened a regular file");
+  } catch (const TransportError& e) {
+    CHECK(std::string(e.what()).find("not a serial port") != std::string::npos);
+  }
+  std::remove(file.c_str());
+  PtyFakeSensor fake(FakeSensorScript{});
+  CHECK_THROWS_AS(SerialPort(fake.path(), SerialPort::Settings{12345, true}), iclap::InvalidArgument);
+  SerialPort first(fake.path());
+  CHECK(first.is_open());
+  try {
+    SerialPort second(fake.path());
+    FAIL("two owners of one port");
+  } catch (const TransportError& e) {
+    CHECK(std::string(e.what()).find("in use") != std::string::npos);
+  }
+  first.close();
+  CHECK_FALSE(first.is_open());
+  std::uint8_t b = 0;
+  CHECK_THROWS_AS(first.read(&b, 1, 10ms), TransportError);
+  SerialPort again(fake.path());  // the lock went with the close
+  CHECK(again.is_open());
+}
+
+TEST_CASE("Serial session: loop echo, matrix info, start at 5 frames/s, frames in order") {
+  FakeSensorScript script;
+  script.max_frames = 20;
+  PtyFakeSensor fake(script);
+  SerialPort port(fake.path());
+  WtsSensor sensor(port);
+  const Reply echo = sensor.request_ok(encode_loop({1, 2, 0xAA, 0xAA, 0xAA, 3}));
+  CHECK(echo.payload == Bytes{1, 2, 0xAA, 0xAA, 0xAA, 3});
+  const MatrixInfo info = sensor.query_matrix_info();
+  CHECK(info.res_x == 6);
+  CHECK(info.res_y == 14);
+  REQUIRE(sensor.grid());
+  CHECK(*sensor.grid() == Grid{14, 6});
+  CHECK_THROWS_AS(sensor.request_ok(encode_get_sensor_type()), WtsCommandError);  // the fake does not know it
+  sensor.start_periodic_frames(5.0);
+  CHECK(sensor.streaming());
+  const auto seqs = read_frames(sensor, script.seed);
+  CHECK(seqs == fake.intact());
+  CHECK(seqs.size() == 20);
+  CHECK(sensor.stop_periodic_frames());
+  CHECK_FALSE(sensor.streaming());
+  // The start command carried delay_ms = 200 (flags 0).
+  bool saw_start = false;
+  for (const auto& c : fake.commands())
+    if (c.id == wts_id::kStartPeriodicFrames) {
+      CHECK(c.payload == Bytes{0x00, 0xC8, 0x00});
+      saw_start = true;
+    }
+  CHECK(saw_start);
+  CHECK(fake.command_ids().back() == wts_id::kStopPeriodicFrames);
+  const auto st = sensor.stats();
+  CHECK(st.crc_errors == 0);
+  CHECK(st.junk_bytes == 0);
+}
+
+TEST_CASE("Serial session: junk and corrupted frames are dropped, every intact frame arrives") {
+  FakeSensorScript script;
+  script.max_frames = 60;
+  script.corrupt_every = 4;
+  script.junk_every = 3;
+  script.seed = 11;
+  PtyFakeSensor fake(script);
+  SerialPort port(fake.path());
+  WtsSensor sensor(port);
+  sensor.query_matrix_info();
+  sensor.start_periodic_frames(5.0);
+  const auto seqs = read_frames(sensor, script.seed);
+  CHECK(seqs == fake.intact());
+  CHECK(fake.intact().size() == 45);
+  CHECK(fake.corrupted().size() == 15);
+  const auto st = sensor.stats();
+  CHECK(st.junk_bytes > 0);
+  CHECK(st.crc_errors + st.truncated + st.oversize + st.frames_out_of_range + st.malformed > 0);
+}
+
+TEST_CASE("Serial session: an unplug ends the stream with DeviceLost after every intact frame") {
+  FakeSensorScript script;
+  script.unplug_after = 25;
+  script.corrupt_every = 5;
+  script.junk_every = 2;
+  PtyFakeSensor fake(script);
+  SerialPort port(fake.path());
+  WtsSensor sensor(port);
+  sensor.query_matrix_info();
+  sensor.start_periodic_frames(5.0);
+  std::vector<std::size_t> seqs;
+  bool lost = false;
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    for (;;)
+      if (auto f = sensor.next_frame(100ms)) seqs.push_back(test::fake_frame_seq(f->texels(0, 0), f->texels(0, 1)));
+  } catch (const DeviceLost& e) {
+    lost = true;
+    CHECK(e.path() == fake.path());
+  }
+  CHECK(lost);
+  CHECK(fake.unplugged());
+  CHECK(std::chrono::steady_clock::now() - start < 10s);
+  CHECK(seqs == fake.intact());
+  CHECK(seqs.size() == 20);
+  CHECK(sensor.lost());
+  CHECK_THROWS_AS(sensor.next_frame(10ms), DeviceLost);
+  CHECK_THROWS_AS(sensor.request(encode_tare()), DeviceLost);
+  CHECK_THROWS_AS(sensor.stop_periodic_frames(), DeviceLost);
+}
+
+TEST_CASE("Serial session: a silent sensor times out naming the command") {
+  FakeSensorScript script;
+  script.answer_matrix_info = false;
+  PtyFakeSensor fake(script);
+  SerialPort port(fake.path());
+  WtsSensor::Settings s;
+  s.reply_timeout = 50ms;
+  s.attempts = 2;
+  WtsSensor sensor(port, s);
+  try {
+    sensor.query_matrix_info();
+    FAIL("no timeout");
+  } catch (const WtsTimeout& e) {
+    CHECK(std::string(e.what()).find("get matrix info") != std::string::npos);
+    CHECK(std::string(e.what()).find("2 attempt") != std::string::npos);
+  }
+  fake.wait_for([&] { return fake.commands().size() >= 2; }, 1000ms);
+  CHECK(fake.command_ids() == std::vector<std::uint8_t>{0x30, 0x30});
+  CHECK_THROWS_AS(WtsSensor(port, WtsSensor::Settings{50ms, 0, 10, {}}), iclap::InvalidArgument);
+}
+
+TEST_CASE("Serial session: frames of a stream left running are discarded at start") {
+  FakeSensorScript script;
+  script.streaming_at_connect = true;
+  script.max_frames = 1000;
+  PtyFakeSensor fake(script);
+  REQUIRE(fake.wait_for([&] { return fake.stale_frames() >= 3; }));
+  SerialPort port(fake.path());
+  WtsSensor::Settings s;
+  s.parser.grid = Grid{14, 6};  // with an override, stale frames decode; start must drop them
+  WtsSensor sensor(port, s);
+  CHECK(sensor.stop_periodic_frames());
+  sensor.query_matrix_info();
+  sensor.start_periodic_frames(5.0);
+  std::vector<std::size_t> seqs;
+  while (seqs.size() < 10)
+    if (auto f = sensor.next_frame(1000ms)) seqs.push_back(test::fake_frame_seq(f->texels(0, 0), f->texels(0, 1)));
+    else break;
+  REQUIRE(seqs.size() == 10);
+  const auto intact = fake.intact();
+  REQUIRE(intact.size() >= 10);
+  CHECK(std::vector<std::size_t>(intact.begin(), intact.begin() + 10) == seqs);
+  CHECK(seqs.front() >= fake.stale_frames());
+}
+
+TEST_CASE("Serial session: the destructor stops a stream it started") {
+  FakeSensorScript script;
+  PtyFakeSensor fake(script);
+  {
+    SerialPort port(fake.path());
+    WtsSensor sensor(port);
+    sensor.query_matrix_info();
+    sensor.start_periodic_frames(5.0);
+    REQUIRE(sensor.next_frame(2000ms));
+  }
+  CHECK(fake.wait_for([&] { return !fake.streaming(); }, 2000ms));
+  CHECK(fake.command_ids().back() == wts_id::kStopPeriodicFrames);
+}
+
+TEST_CASE("Sensor frame source pairs frames with replayed poses and ends with them") {
+  FakeSensorScript script;
+  PtyFakeSensor fake(script);
+  SerialPort port(fake.path());
+  WtsSensor sensor(port);
+  ReplayPoseSource poses({Pose{{0.1, 0, 0}, {}}, Pose{{0.2, 0, 0}, {}}, Pose{{0.3, 0, 0}, {}}}, "three poses");
+  CHECK_THROWS_AS(SensorFrameSource(sensor, poses), iclap::InvalidArgument);  // no grid yet
+  sensor.query_matrix_info();
+  SensorFrameSource source(sensor, poses);
+  CHECK(source.grid() == Grid{14, 6});
+  CHECK(source.has_time());
+  CHECK_FALSE(source.has_orientation());
+  sensor.start_periodic_frames(5.0);
+  PosedFrame pf;
+  std::vector<double> xs;
+  for (int i = 0; i < 100; ++i) {
+    const auto st = source.next(pf, 2000ms);
+    if (st == FrameSource::Status::kEnd) break;
+    REQUIRE(st == FrameSource::Status::kFrame);
+    xs.push_back(pf.pose.position.x());
+    REQUIRE(pf.time);
+    const std::size_t seq = test::fake_frame_seq(pf.pressures(0, 0), pf.pressures(0, 1));
+    CHECK(*pf.time == doctest::Approx((1000 + 200 * static_cast<double>(seq)) / 1000.0));
+    CHECK(pf.pressures.rows() == 14);
+  }
+  CHECK(xs == std::vector<double>{0.1, 0.2, 0.3});
+  CHECK(source.next(pf, 10ms) == FrameSource::Status::kEnd);
+  CHECK(source.description().find(fake.path()) != std::string::npos);
+}
+
+TEST_CASE("Pose specs") {
+  auto fixed = make_pose_source("fixed:0.1,-2,3e-3");
+  auto p = fixed->next();
+  REQUIRE(p);
+  CHECK(p->position == Eigen::Vector3d(0.1, -2, 3e-3));
+  CHECK_FALSE(p->orientation);
+  CHECK_FALSE(fixed->has_orientation());
+  CHECK(fixed->next()->position == p->position);  // never ends
+  auto oriented = make_pose_source("fixed:0,0,0,1,0,0,0");
+  CHECK(oriented->has_orientation());
+  CHECK(oriented->next()->orientation->w() == 1.0);
+  for (const char* bad : {"fixed:", "fixed:1,2", "fixed:1,2,3,4", "fixed:1,2,x", "fixed:1,2,nan", "fixed:1,,3",
+                          "fixed:0,0,0,2,0,0,0", "nowhere:1", "replay:", "", "omni"}) {
+    CAPTURE(bad);
+    if (std::string(bad) == "omni" && kHaveOpenHaptics) continue;
+    try {
+      make_pose_source(bad, "--pose");
+      FAIL("accepted");
+    } catch (const iclap::InvalidArgument& e) {
+      CHECK(e.argument() == "--pose");
+    }
+  }
+  CHECK_THROWS_AS(make_pose_source("replay:/nonexistent/poses.csv"), iclap::IoError);
+
+  // A replay of a dataset file: poses in file order, orientation carried.
+  iclap::Dataset d;
+  d.rows = 2;
+  d.cols = 1;
+  for (int i = 0; i < 3; ++i) {
+    iclap::Frame f;
+    f.object = "cup";
+    f.frame = i;
+    f.position = Eigen::Vector3d(i, 2.0 * i, 0.5);
+    f.orientation = Eigen::Quaterniond(1, 0, 0, 0);
+    f.pressures = Eigen::MatrixXd::Constant(2, 1, i);
+    d.frames.push_back(f);
+  }
+  const std::string file = temp_path("poses.csv");
+  iclap::write_dataset_csv(file, d);
+  auto replay = make_pose_source("replay:" + file);
+  CHECK(replay->has_orientation());
+  for (int i = 0; i < 3; ++i) {
+    auto q = replay->next();
+    REQUIRE(q);
+    CHECK(q->position == Eigen::Vector3d(i, 2.0 * i, 0.5));
+  }
+  CHECK_FALSE(replay->next());
+  CHECK(replay->description().find("3 poses") != std::string::npos);
+
+  DatasetFrameSource frames(d, file);
+  CHECK(frames.grid() == Grid{2, 1});
+  CHECK(frames.has_orientation());
+  CHECK_FALSE(frames.has_time());
+  PosedFrame pf;
+  int n = 0;
+  while (frames.next(pf, 0ms) == FrameSource::Status::kFrame) {
+    CHECK(pf.pressures(1, 0) == n);
+    CHECK(frames.last_frame().frame == n);
+    ++n;
+  }
+  CHECK(n == 3);
+  std::remove(file.c_str());
+  CHECK_THROWS_AS(DatasetFrameSource(iclap::Dataset{}), iclap::EmptyInput);
+  CHECK_THROWS_AS(ReplayPoseSource({}, "none"), iclap::EmptyInput);
+  CHECK_THROWS_AS(FixedPoseSource(Pose{{0, std::nan(""), 0}, {}}), iclap::InvalidArgument);
+}
