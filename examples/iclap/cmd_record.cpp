@@ -211,7 +211,9 @@ int run_record(const Args& args) {
                          " cell_w=" + std::to_string(info->cell_width) + " cell_h=" + std::to_string(info->cell_height) +
                          " full_scale=" + std::to_string(info->full_scale) +
                          (grid_override ? " (grid set by --grid)" : " (rows = res_y, cols = res_x)"));
-    comments.push_back("recorded by: iclap " ICLAP_VERSION_STRING " record, " + std::to_string(rate) +
+    char rate_text[32];
+    std::snprintf(rate_text, sizeof rate_text, "%g", rate);
+    comments.push_back(std::string("recorded by: iclap " ICLAP_VERSION_STRING " record, ") + rate_text +
                        " frames/s; t is the sensor clock in seconds");
     comments.push_back("poses: " + poses->description());
   }

@@ -225,9 +225,9 @@ class HidByteStream final : public ByteStream {
   };
 
   explicit HidByteStream(std::string path) : HidByteStream(std::move(path), Settings{}) {}
-  HidByteStream(std::string path, Settings settings) : settings_(settings), device_(std::move(path)) {
-    if (settings_.report_size < 2 || settings_.report_size > 4096)
-      throw InvalidArgument("report_size", std::to_string(settings_.report_size) + " is outside 2..4096");
+  /// Throws InvalidArgument ("settings.report_size") before touching the
+  /// device, TransportError if it cannot be opened.
+  HidByteStream(std::string path, Settings settings) : settings_(checked(settings)), device_(std::move(path)) {
     report_.resize(settings_.report_size + 1);
   }
 
@@ -274,6 +274,12 @@ class HidByteStream final : public ByteStream {
   const std::string& name() const noexcept override { return device_.path(); }
 
  private:
+  static Settings checked(const Settings& s) {
+    if (s.report_size < 2 || s.report_size > 4096)
+      throw InvalidArgument("settings.report_size", std::to_string(s.report_size) + " is outside 2..4096");
+    return s;
+  }
+
   Settings settings_;
   HidDevice device_;
   std::vector<std::uint8_t> report_;

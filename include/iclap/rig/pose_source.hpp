@@ -2,7 +2,7 @@
 #pragma once
 
 #include <cmath>
-#include <cstdio>
+#include <charconv>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -65,10 +65,10 @@ class FixedPoseSource final : public PoseSource {
   std::optional<Pose> next() override { return pose_; }
   bool has_orientation() const override { return pose_.orientation.has_value(); }
   std::string description() const override {
-    auto num = [](double v) {
+    auto num = [](double v) {  // shortest text that reads back to v
       char buf[32];
-      std::snprintf(buf, sizeof buf, "%.17g", v);
-      return std::string(buf);
+      const auto r = std::to_chars(buf, buf + sizeof buf, v);
+      return std::string(buf, r.ptr);
     };
     std::string d = "fixed " + num(pose_.position.x()) + "," + num(pose_.position.y()) + "," + num(pose_.position.z());
     if (pose_.orientation) {

@@ -38,7 +38,7 @@ class SensorFrameSource final : public FrameSource {
     }
     out.pressures = frame->pressures();
     out.pose = std::move(*pose);
-    out.time = frame->timestamp_ms * 1e-3;
+    out.time = frame->timestamp_ms / 1000.0;  // correctly rounded: 1400 ms -> 1.4
     last_timestamp_ms_ = frame->timestamp_ms;
     return Status::kFrame;
   }
