@@ -65,10 +65,12 @@ struct KMeansResult {
   /// Words with no training feature at the end (only possible with
   /// KeepCentre, or when re-seeding found no candidate).
   Index empty_clusters = 0;
-  /// Full nearest-centre searches made, and the ones the triangle-inequality
-  /// test made unnecessary (settings.pruning); a measure of the speed-up.
-  std::int64_t searches = 0;
-  std::int64_t pruned = 0;
+  /// Feature-to-centre distances evaluated by the assignment steps. Plain
+  /// Lloyd (no pruning) counts n * k per step, what brute force evaluates;
+  /// with pruning, the fraction of that actually computed is the speed-up.
+  std::int64_t distance_evaluations = 0;
+  /// Assignment steps made (iterations + 1, or + 2 after a late re-seed).
+  int assignment_steps = 0;
   /// Word of every training feature (in feature order, after any word
   /// ordering); equal to `assign(features.col(j))` for every j.
   WordIds labels;
@@ -100,16 +102,23 @@ struct is_search_policy<
 /// deterministic: the same features, settings and build give the same
 /// codebook bit for bit on every run (sums in double, in feature order).
 ///
-/// Assignment goes through the `Search` policy (BruteForceSearch or
-/// KdTreeSearch, both from iclap/search; identical answers, ties to the
-/// smaller word id), rebuilt on the centres each iteration. Brute force is
-/// the default: at the paper's scale (k = 50 words, 72-D Tactile-SIFT) a
-/// kd-tree cannot prune in 72 dimensions and only adds traversal cost
-/// (measured in benchmarks/bench_tactile.cpp). With `pruning` on, a feature
-/// whose distance to its own centre is below half the distance from that
-/// centre to every other centre (Elkan 2003, lemma 1; with a rounding margin)
-/// provably keeps its word and skips the search; the result is bit-identical
-/// to the unpruned fit, only faster.
+/// Assignment: `assign()` queries the `Search` policy built on the centres
+/// (BruteForceSearch or KdTreeSearch from iclap/search; identical answers,
+/// ties to the smaller word id). Brute force is the default: at the paper's
+/// scale (k = 50 words, 72-D Tactile-SIFT) a kd-tree cannot prune in 72
+/// dimensions and only adds traversal cost (benchmarks/bench_tactile.cpp).
+///
+/// Fit: with `pruning` off, each Lloyd step queries the policy for every
+/// feature (plain Lloyd, O(n k d) per step). With `pruning` on (default), the
+/// step is Elkan's algorithm ("Using the triangle inequality to accelerate
+/// k-means", ICML 2003): per-feature lower bounds on the distance to every
+/// centre, carried across iterations and lowered by each centre's movement,
+/// skip most distance evaluations. It evaluates the policies' own distance
+/// kernel with their tie rule, and every skip holds with a rounding margin,
+/// so the labels, centres and iterations are bit-identical to plain Lloyd
+/// with either policy (the test suite checks it); only faster. It keeps k
+/// bounds per feature: O(n k) doubles of memory (3.4 MB at the paper's
+/// scale); switch pruning off for very large n x k.
 ///
 /// After fit(), assign() is const and thread-safe; copies are independent
 /// (a KdTreeSearch policy shares its immutable tree).
@@ -140,7 +149,8 @@ class KMeansQuantizer {
     double relative_tolerance = 1e-6;
     EmptyClusterPolicy empty_clusters = EmptyClusterPolicy::ReseedFarthest;
     WordOrdering ordering = WordOrdering::None;
-    /// Skip searches the triangle inequality proves unnecessary (exact).
+    /// Elkan's exact triangle-inequality pruning (see the class comment);
+    /// false = plain Lloyd through the Search policy.
     bool pruning = true;
     typename Search::Settings search{};
   };
@@ -248,9 +258,9 @@ class KMeansQuantizer {
   }
 
  private:
-  /// Relative safety margin of the pruning test: a few times the worst
-  /// rounding error of a d-term sum of squares, so a pruned feature is
-  /// strictly nearer its own centre even in floating point.
+  /// Relative safety margin of the pruning tests: several times the worst
+  /// relative rounding error of the d-term squared-distance kernel, so a
+  /// skipped centre is strictly farther even in floating point.
   static double pruning_margin(Index d) noexcept {
     return 4.0 * static_cast<double>(d + 4) * static_cast<double>(std::numeric_limits<Scalar>::epsilon());
   }
@@ -344,50 +354,149 @@ class KMeansQuantizer {
     const Index n = features.cols();
     const Index d = features.rows();
     const Index k = settings.k;
-    const double margin = pruning_margin(d);
 
     KMeansResult result;
     WordIds labels = WordIds::Constant(n, -1);
     WordIds sizes = WordIds::Zero(k);
     std::vector<double> d2(static_cast<std::size_t>(n), 0.0);
-    std::vector<double> half_gap(static_cast<std::size_t>(k));
     Eigen::Matrix<double, Dim, Eigen::Dynamic> sums(d, k);
 
-    // One assignment step against `centres`; returns the number of changed
-    // labels. Pruning needs a label to test, so not on the first step; the
-    // test itself proves the label is the strictly nearest centre whatever
-    // produced it, so it stays exact after a re-seed too.
-    const auto assign_step = [&](bool prune) {
+    // Elkan's bounds (pruning only). All distances below are Euclidean (not
+    // squared) and in double; `lower(j, i)` never exceeds the true distance
+    // from feature i to centre j, and every test that skips a distance
+    // evaluation holds with a relative margin m (several times the rounding
+    // error of the distance kernel) plus an absolute slack eta (rounding of
+    // the bound updates), so a skipped centre is strictly farther than the
+    // current best in the kernel's own floating-point distances too. Hence
+    // the labels are exactly those of a brute-force search.
+    const double m = pruning_margin(d);
+    double radius = 0.0;
+    for (Index i = 0; i < n; ++i) radius = std::max(radius, features.col(i).template cast<double>().norm());
+    for (Index j = 0; j < k; ++j) radius = std::max(radius, centres.col(j).template cast<double>().norm());
+    const double eta = 16.0 * std::numeric_limits<double>::epsilon() * (settings.max_iterations + 2.0) * 2.0 * radius;
+    Eigen::MatrixXd lower;           // k x n, built on the first step
+    Features bound_centres;          // the centres the bounds refer to
+    Eigen::MatrixXd half_gap(k, k);  // lower bounds on half the centre-centre distances
+    std::vector<double> nearest_half(static_cast<std::size_t>(k));
+    const auto lower_from = [m](Scalar squared) { return std::sqrt(static_cast<double>(squared)) * (1.0 - m); };
+    const auto upper_from = [m, eta](Scalar squared) { return std::sqrt(static_cast<double>(squared)) * (1.0 + m) + eta; };
+    const auto kernel = [d](const Scalar* a, const Scalar* b) { return detail::squared_distance<Dim>(a, b, d); };
+
+    // Records feature i's new word; returns 1 when it changed.
+    const auto set_label = [&](Index i, Index word, Scalar squared) -> Index {
+      const Index changed = word != labels[i] ? 1 : 0;
+      labels[i] = word;
+      d2[static_cast<std::size_t>(i)] = static_cast<double>(squared);
+      return changed;
+    };
+    const auto count_sizes = [&]() {
+      sizes.setZero();
+      for (Index i = 0; i < n; ++i) ++sizes[labels[i]];
+    };
+
+    // Plain Lloyd step: every feature is a query to the Search policy.
+    const auto assign_with_policy = [&]() {
       const Search search(centres, settings.search);
-      if (prune) {
-        for (Index j = 0; j < k; ++j) {
-          double nearest_other = std::numeric_limits<double>::infinity();
-          for (Index o = 0; o < k; ++o)
-            if (o != j) nearest_other = std::min(nearest_other, dist2(centres.col(j).data(), centres.col(o).data(), d));
-          half_gap[static_cast<std::size_t>(j)] = 0.5 * std::sqrt(nearest_other) * (1.0 - margin);
-        }
+      Index changed = 0;
+      for (Index i = 0; i < n; ++i) {
+        const Neighbor<Scalar> nb = search.nearest(features.col(i).data());
+        changed += set_label(i, nb.index, nb.squared_distance);
       }
+      result.distance_evaluations += static_cast<std::int64_t>(n) * k;
+      count_sizes();
+      return changed;
+    };
+
+    // First bounded step: every distance, which also initialises the bounds.
+    // Same kernel, same order and same tie rule as BruteForceSearch.
+    const auto assign_all_distances = [&]() {
+      lower.resize(k, n);
       Index changed = 0;
       for (Index i = 0; i < n; ++i) {
         const Scalar* x = features.col(i).data();
-        if (prune) {
-          const Index own = labels[i];
-          const double own_d2 = dist2(x, centres.col(own).data(), d);
-          if (std::sqrt(own_d2) * (1.0 + margin) < half_gap[static_cast<std::size_t>(own)]) {
-            d2[static_cast<std::size_t>(i)] = own_d2;
-            ++result.pruned;
-            continue;
+        Index best = -1;
+        Scalar best_d2 = std::numeric_limits<Scalar>::infinity();
+        for (Index j = 0; j < k; ++j) {
+          const Scalar dj = kernel(x, centres.col(j).data());
+          lower(j, i) = lower_from(dj);
+          if (detail::closer(dj, j, best_d2, best)) {
+            best = j;
+            best_d2 = dj;
           }
         }
-        const Neighbor<Scalar> nb = search.nearest(x);
-        ++result.searches;
-        if (nb.index != labels[i]) ++changed;
-        labels[i] = nb.index;
-        d2[static_cast<std::size_t>(i)] = static_cast<double>(nb.squared_distance);
+        changed += set_label(i, best, best_d2);
       }
-      sizes.setZero();
-      for (Index i = 0; i < n; ++i) ++sizes[labels[i]];
+      result.distance_evaluations += static_cast<std::int64_t>(n) * k;
+      bound_centres = centres;
+      count_sizes();
       return changed;
+    };
+
+    // Later bounded steps (Elkan 2003).
+    const auto assign_with_bounds = [&]() {
+      // Centres moved since the bounds were made (updates and re-seeds):
+      // every lower bound to centre j drops by j's movement.
+      for (Index j = 0; j < k; ++j) {
+        const Scalar moved = kernel(bound_centres.col(j).data(), centres.col(j).data());
+        if (moved > Scalar(0)) lower.row(j).array() = (lower.row(j).array() - upper_from(moved)).max(0.0);
+      }
+      bound_centres = centres;
+      for (Index j = 0; j < k; ++j) {
+        half_gap(j, j) = 0.0;
+        for (Index o = j + 1; o < k; ++o)
+          half_gap(j, o) = half_gap(o, j) = 0.5 * lower_from(kernel(centres.col(j).data(), centres.col(o).data()));
+      }
+      for (Index j = 0; j < k; ++j) {
+        double nearest = std::numeric_limits<double>::infinity();
+        for (Index o = 0; o < k; ++o)
+          if (o != j) nearest = std::min(nearest, half_gap(j, o));
+        nearest_half[static_cast<std::size_t>(j)] = nearest;
+      }
+      Index changed = 0;
+      std::int64_t evaluations = 0;
+      for (Index i = 0; i < n; ++i) {
+        const Scalar* x = features.col(i).data();
+        Index best = labels[i];
+        Scalar best_d2 = kernel(x, centres.col(best).data());  // exact: needed for the inertia anyway
+        ++evaluations;
+        lower(best, i) = lower_from(best_d2);
+        double upper = upper_from(best_d2);
+        // Elkan's lemma 1: nearer to its own centre than half the gap to
+        // any other centre, so that centre is the strictly nearest.
+        if (upper < nearest_half[static_cast<std::size_t>(best)] - eta) {
+          d2[static_cast<std::size_t>(i)] = static_cast<double>(best_d2);
+          continue;
+        }
+        const Index own = best;
+        for (Index j = 0; j < k; ++j) {
+          if (j == own) continue;
+          // Lemma 2 (bound) and lemma 1 against the current best.
+          if (lower(j, i) - eta > upper || half_gap(best, j) - eta > upper) continue;
+          const Scalar dj = kernel(x, centres.col(j).data());
+          ++evaluations;
+          lower(j, i) = lower_from(dj);
+          if (detail::closer(dj, j, best_d2, best)) {
+            best = j;
+            best_d2 = dj;
+            upper = upper_from(dj);
+          }
+        }
+        changed += set_label(i, best, best_d2);
+      }
+      result.distance_evaluations += evaluations;
+      count_sizes();
+      return changed;
+    };
+
+    bool bounds_ready = false;
+    const auto assign_step = [&]() -> Index {
+      ++result.assignment_steps;
+      if (!settings.pruning) return assign_with_policy();
+      if (!bounds_ready) {
+        bounds_ready = true;
+        return assign_all_distances();
+      }
+      return assign_with_bounds();
     };
 
     // Empty clusters after an assignment step; returns how many were re-seeded.
@@ -426,7 +535,7 @@ class KMeansQuantizer {
     };
 
     const auto max_iterations = static_cast<std::size_t>(settings.max_iterations);
-    assign_step(false);
+    assign_step();
     Index reseeded_now = fix_empty();
     result.reseeded += reseeded_now;
     double previous = inertia();
@@ -434,7 +543,7 @@ class KMeansQuantizer {
     bool stopped = false;
     for (int it = 1; it <= settings.max_iterations; ++it) {
       update_centres();
-      const Index changed = assign_step(settings.pruning);
+      const Index changed = assign_step();
       reseeded_now = fix_empty();
       result.reseeded += reseeded_now;
       result.iterations = it;
@@ -456,7 +565,7 @@ class KMeansQuantizer {
       result.stop = KMeansStop::MaxIterations;
       // A re-seed in the last step moved a centre after the features were
       // assigned: assign once more so labels match assign() exactly.
-      if (reseeded_now > 0) assign_step(false);
+      if (reseeded_now > 0) assign_step();
     }
     if (progress && result.iterations < settings.max_iterations) progress(max_iterations, max_iterations);
     result.converged = result.stop != KMeansStop::MaxIterations;
