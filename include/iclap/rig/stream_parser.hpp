@@ -81,10 +81,13 @@ class WtsStreamParser {
   /// The next frame or reply, or nothing until more bytes arrive.
   std::optional<WtsMessage> next() {
     while (auto packet = framer_.next()) {
+      std::optional<WtsMessage> message;
       if (packet->id == wts_id::kFrameData) {
-        if (auto frame = decode_frame(packet->payload)) return WtsMessage(std::move(*frame));
-      } else if (auto reply = decode_reply(*packet)) {
-        return WtsMessage(std::move(*reply));
+        auto& frame = std::get<TactileFrame>(message.emplace(std::in_place_type<TactileFrame>));
+        if (decode_frame(packet->payload, frame)) return message;
+      } else {
+        auto& reply = std::get<Reply>(message.emplace(std::in_place_type<Reply>));
+        if (decode_reply(*packet, reply)) return message;
       }
     }
     return std::nullopt;
@@ -116,23 +119,23 @@ class WtsStreamParser {
       throw InvalidArgument("grid", to_string(g) + " is not a grid of 1 to 32767 taxels");
   }
 
-  std::optional<TactileFrame> decode_frame(const Bytes& payload) {
+  // Fills `frame` and returns true, or counts the drop and returns false.
+  bool decode_frame(const Bytes& payload, TactileFrame& frame) {
     constexpr std::size_t kHead = 5;  // timestamp u32, flags u8
     if (payload.size() < kHead || (payload.size() - kHead) % 2 != 0) {
       ++counts_.malformed;
-      return std::nullopt;
+      return false;
     }
     const std::size_t taxels = (payload.size() - kHead) / 2;
     if (!grid_) {
       ++counts_.frames_without_grid;
-      return std::nullopt;
+      return false;
     }
     if (taxels != static_cast<std::size_t>(grid_->size())) {
       ++counts_.frames_wrong_shape;
       counts_.last_wrong_shape_taxels = taxels;
-      return std::nullopt;
+      return false;
     }
-    TactileFrame frame;
     frame.timestamp_ms = get_u32(payload.data());
     frame.flags = payload[4];
     frame.texels.resize(grid_->rows, grid_->cols);
@@ -145,18 +148,17 @@ class WtsStreamParser {
     }
     if (largest > max_texel_) {
       ++counts_.frames_out_of_range;
-      return std::nullopt;
+      return false;
     }
     ++counts_.frames;
-    return frame;
+    return true;
   }
 
-  std::optional<Reply> decode_reply(RawPacket& packet) {
+  bool decode_reply(RawPacket& packet, Reply& reply) {
     if (packet.payload.size() < 2) {
       ++counts_.malformed;
-      return std::nullopt;
+      return false;
     }
-    Reply reply;
     reply.id = packet.id;
     reply.status = get_u16(packet.payload.data());
     reply.payload.assign(packet.payload.begin() + 2, packet.payload.end());
@@ -167,7 +169,7 @@ class WtsStreamParser {
       if (!grid_overridden_ && g.rows >= 1 && g.cols >= 1 && g.size() <= 32767) grid_ = g;
     }
     ++counts_.replies;
-    return reply;
+    return true;
   }
 
   PacketFramer framer_;
