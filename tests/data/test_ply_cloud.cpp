@@ -12,7 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "iclap/core/random.hpp"
 #include "iclap/data/ply_cloud.hpp"
+#include "iclap/mesh/ply.hpp"
 
 namespace {
 
@@ -112,4 +114,30 @@ TEST_CASE("labeled cloud ply: bad input is rejected and writes nothing") {
                   iclap::InvalidArgument);
   CHECK_FALSE(fs::exists(path));
   CHECK_FALSE(fs::exists(path + ".partial"));
+}
+
+TEST_CASE("labeled cloud ply: reads back with a PLY reader (ascii exact, binary float)") {
+  iclap::Rng rng(5);
+  Eigen::Matrix3Xd p(3, 200);
+  std::vector<int> labels(200);
+  for (int i = 0; i < 200; ++i) {
+    p.col(i) = Eigen::Vector3d(rng.normal(0, 0.1), rng.normal(0, 0.1), rng.uniform(0, 0.05));
+    labels[static_cast<std::size_t>(i)] = static_cast<int>(rng.below(50));
+  }
+  for (auto enc : {iclap::PlyEncoding::ascii, iclap::PlyEncoding::binary_little_endian}) {
+    const std::string path = temp_file("readback.ply");
+    iclap::write_labeled_cloud_ply(path, p, labels, {enc, {}});
+    const auto back = iclap::read_ply(path);
+    fs::remove(path);
+    REQUIRE(back.vertices.cols() == 200);
+    CHECK(back.triangles.cols() == 0);
+    if (enc == iclap::PlyEncoding::ascii) CHECK(back.vertices == p);
+    else CHECK(back.vertices.isApprox(p.cast<float>().cast<double>(), 0));
+    const auto& l = back.vertex_properties.at("label");
+    const auto& red = back.vertex_properties.at("red");
+    for (std::size_t i = 0; i < 200; ++i) {
+      CHECK(l[i] == labels[i]);
+      CHECK(red[i] == iclap::label_colour(labels[i])[0]);
+    }
+  }
 }

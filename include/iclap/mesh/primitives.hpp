@@ -1,0 +1,225 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// Closed triangle meshes of simple solids, to build objects from: boxes,
+// solids of revolution (cylinders, cones, spheres, capsules) and extruded
+// outlines. All have outward normals; combine them with append_mesh (the
+// object is the union of the overlapping shells).
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "iclap/core/error.hpp"
+#include "iclap/mesh/triangle_mesh.hpp"
+
+namespace iclap {
+
+namespace detail {
+inline constexpr double kPi = 3.14159265358979323846;
+
+inline TriangleMesh mesh_from(const std::vector<Eigen::Vector3d>& v, const std::vector<Eigen::Vector3i>& t) {
+  TriangleMesh m;
+  m.vertices.resize(3, static_cast<Index>(v.size()));
+  for (std::size_t i = 0; i < v.size(); ++i) m.vertices.col(static_cast<Index>(i)) = v[i];
+  m.triangles.resize(3, static_cast<Index>(t.size()));
+  for (std::size_t i = 0; i < t.size(); ++i) m.triangles.col(static_cast<Index>(i)) = t[i];
+  return m;
+}
+}  // namespace detail
+
+/// Appends the shells of `b` to `a` (indices shifted).
+inline void append_mesh(TriangleMesh& a, const TriangleMesh& b) {
+  const Index nv = a.vertex_count(), nt = a.triangle_count();
+  a.vertices.conservativeResize(3, nv + b.vertex_count());
+  a.vertices.rightCols(b.vertex_count()) = b.vertices;
+  a.triangles.conservativeResize(3, nt + b.triangle_count());
+  a.triangles.rightCols(b.triangle_count()) = b.triangles.array() + static_cast<int>(nv);
+}
+
+/// `mesh` moved by the transform `T` (a copy).
+inline TriangleMesh transformed(TriangleMesh mesh, const Eigen::Affine3d& T) {
+  transform_mesh(mesh, T);
+  return mesh;
+}
+
+/// Axis-aligned box of edge lengths `size`, centred on the origin. 12 triangles.
+inline TriangleMesh make_box(const Eigen::Vector3d& size) {
+  if (!(size.array() > 0).all()) throw InvalidArgument("size", "box edges must be positive");
+  const Eigen::Vector3d h = size / 2;
+  std::vector<Eigen::Vector3d> v;
+  for (int i = 0; i < 8; ++i)
+    v.emplace_back((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
+  const std::vector<Eigen::Vector3i> t = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                                          {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+  return detail::mesh_from(v, t);
+}
+
+/// Solid of revolution about the z axis: `profile` lists (radius, z) points
+/// from the bottom to the top; a radius of 0 is a pole (use it at the two
+/// ends to close the solid). `segments` points per ring (>= 3).
+inline TriangleMesh make_lathe(const std::vector<Eigen::Vector2d>& profile, int segments) {
+  if (profile.size() < 2) throw InvalidArgument("profile", "needs at least 2 points");
+  if (segments < 3) throw InvalidArgument("segments", "needs at least 3");
+  std::vector<Eigen::Vector3d> v;
+  std::vector<int> start;  // first vertex of each profile point
+  for (const auto& p : profile) {
+    if (p.x() < 0) throw InvalidArgument("profile", "radius must be >= 0");
+    start.push_back(static_cast<int>(v.size()));
+    if (p.x() == 0) {
+      v.emplace_back(0, 0, p.y());
+    } else {
+      for (int j = 0; j < segments; ++j) {
+        const double a = 2 * detail::kPi * j / segments;
+        v.emplace_back(p.x() * std::cos(a), p.x() * std::sin(a), p.y());
+      }
+    }
+  }
+  std::vector<Eigen::Vector3i> t;
+  for (std::size_t i = 0; i + 1 < profile.size(); ++i) {
+    const bool lo_pole = profile[i].x() == 0, hi_pole = profile[i + 1].x() == 0;
+    const int a0 = start[i], b0 = start[i + 1];
+    for (int j = 0; j < segments; ++j) {
+      const int j1 = (j + 1) % segments;
+      if (lo_pole && hi_pole) break;
+      if (lo_pole) {
+        t.emplace_back(a0, b0 + j1, b0 + j);
+      } else if (hi_pole) {
+        t.emplace_back(a0 + j, a0 + j1, b0);
+      } else {
+        t.emplace_back(a0 + j, a0 + j1, b0 + j1);
+        t.emplace_back(a0 + j, b0 + j1, b0 + j);
+      }
+    }
+  }
+  return detail::mesh_from(v, t);
+}
+
+/// Cylinder of `radius` and `length` along z, centred on the origin.
+inline TriangleMesh make_cylinder(double radius, double length, int segments = 32) {
+  const double h = length / 2;
+  return make_lathe({{0, -h}, {radius, -h}, {radius, h}, {0, h}}, segments);
+}
+
+/// Frustum along z from z = 0 (radius r0) to z = length (radius r1).
+inline TriangleMesh make_frustum(double r0, double r1, double length, int segments = 32) {
+  std::vector<Eigen::Vector2d> p = {{0, 0}};
+  if (r0 > 0) p.emplace_back(r0, 0);
+  if (r1 > 0) p.emplace_back(r1, length);
+  p.emplace_back(0, length);
+  return make_lathe(p, segments);
+}
+
+/// Capsule along z: a cylinder of `radius` whose axis segment has `length`,
+/// with hemispherical ends; centred on the origin. Total length
+/// length + 2 radius.
+inline TriangleMesh make_capsule(double radius, double length, int segments = 24, int cap_rings = 6) {
+  std::vector<Eigen::Vector2d> p;
+  const double h = length / 2;
+  for (int i = 0; i <= cap_rings; ++i) {
+    const double a = -detail::kPi / 2 + (detail::kPi / 2) * i / cap_rings;
+    p.emplace_back(radius * std::cos(a), -h + radius * std::sin(a));
+  }
+  for (int i = 0; i <= cap_rings; ++i) {
+    const double a = (detail::kPi / 2) * i / cap_rings;
+    p.emplace_back(radius * std::cos(a), h + radius * std::sin(a));
+  }
+  p.front().x() = 0;
+  p.back().x() = 0;
+  return make_lathe(p, segments);
+}
+
+/// Sphere of `radius` centred on the origin.
+inline TriangleMesh make_sphere(double radius, int segments = 24, int rings = 12) {
+  std::vector<Eigen::Vector2d> p;
+  for (int i = 0; i <= rings; ++i) {
+    const double a = -detail::kPi / 2 + detail::kPi * i / rings;
+    p.emplace_back(i == 0 || i == rings ? 0.0 : radius * std::cos(a), radius * std::sin(a));
+  }
+  return make_lathe(p, segments);
+}
+
+/// Prism: the simple polygon `outline` (x, y; either orientation, no
+/// self-intersections) extruded from z = z0 to z = z1. Caps are
+/// triangulated by ear clipping. O(n^2) in the outline size.
+inline TriangleMesh make_extrusion(std::vector<Eigen::Vector2d> outline, double z0, double z1) {
+  const std::size_t n = outline.size();
+  if (n < 3) throw InvalidArgument("outline", "needs at least 3 points");
+  if (!(z1 > z0)) throw InvalidArgument("z1", "must be above z0");
+  double area2 = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& a = outline[i];
+    const auto& b = outline[(i + 1) % n];
+    area2 += a.x() * b.y() - b.x() * a.y();
+  }
+  if (area2 == 0) throw InvalidArgument("outline", "has zero area");
+  if (area2 < 0) std::reverse(outline.begin(), outline.end());
+  // Ear clipping of the counter-clockwise outline.
+  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  std::vector<int> idx(n);
+  for (std::size_t i = 0; i < n; ++i) idx[i] = static_cast<int>(i);
+  std::vector<Eigen::Vector3i> caps;  // counter-clockwise seen from +z
+  std::size_t guard = 0;
+  while (idx.size() > 3) {
+    bool clipped = false;
+    for (std::size_t i = 0; i < idx.size(); ++i) {
+      const int ia = idx[(i + idx.size() - 1) % idx.size()], ib = idx[i], ic = idx[(i + 1) % idx.size()];
+      const auto &a = outline[static_cast<std::size_t>(ia)], &b = outline[static_cast<std::size_t>(ib)],
+                 &c = outline[static_cast<std::size_t>(ic)];
+      if (cross(a, b, c) <= 0) continue;  // reflex or degenerate
+      bool empty = true;
+      for (int k : idx) {
+        if (k == ia || k == ib || k == ic) continue;
+        const auto& q = outline[static_cast<std::size_t>(k)];
+        if (cross(a, b, q) >= 0 && cross(b, c, q) >= 0 && cross(c, a, q) >= 0) {
+          empty = false;
+          break;
+        }
+      }
+      if (!empty) continue;
+      caps.emplace_back(ia, ib, ic);
+      idx.erase(idx.begin() + static_cast<std::ptrdiff_t>(i));
+      clipped = true;
+      break;
+    }
+    if (!clipped || ++guard > 4 * n)
+      throw InvalidArgument("outline", "is not a simple polygon (ear clipping failed)");
+  }
+  caps.emplace_back(idx[0], idx[1], idx[2]);
+  std::vector<Eigen::Vector3d> v;
+  for (const auto& p : outline) v.emplace_back(p.x(), p.y(), z0);
+  for (const auto& p : outline) v.emplace_back(p.x(), p.y(), z1);
+  const int N = static_cast<int>(n);
+  std::vector<Eigen::Vector3i> t;
+  for (const auto& c : caps) {
+    t.emplace_back(c[0] + N, c[1] + N, c[2] + N);  // top, +z
+    t.emplace_back(c[0], c[2], c[1]);              // bottom, -z
+  }
+  for (int i = 0; i < N; ++i) {
+    const int j = (i + 1) % N;
+    t.emplace_back(i, j, j + N);
+    t.emplace_back(i, j + N, i + N);
+  }
+  return detail::mesh_from(v, t);
+}
+
+/// Points of a circular arc (centre, radius, angles in radians, both ends
+/// included), for building outlines.
+inline std::vector<Eigen::Vector2d> arc_points(const Eigen::Vector2d& centre, double radius, double from, double to,
+                                               int steps) {
+  std::vector<Eigen::Vector2d> p;
+  for (int i = 0; i <= steps; ++i) {
+    const double a = from + (to - from) * i / steps;
+    p.push_back(centre + radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
+  }
+  return p;
+}
+
+}  // namespace iclap

@@ -1,0 +1,221 @@
+// SPDX-License-Identifier: MIT
+// Primitives, BVH queries against brute force, convex hull, table placement.
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include "iclap/core/random.hpp"
+#include "iclap/mesh/mesh.hpp"
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Eigen::Vector3d random_unit(iclap::Rng& rng) {
+  Eigen::Vector3d d(rng.normal(), rng.normal(), rng.normal());
+  return d.normalized();
+}
+
+Eigen::Matrix3d random_rotation(iclap::Rng& rng) {
+  Eigen::Quaterniond q(rng.normal(), rng.normal(), rng.normal(), rng.normal());
+  return q.normalized().toRotationMatrix();
+}
+
+// A bumpy closed mesh: a sphere with random radial noise, plus a box shell
+// overlapping it (two shells, like the built-in objects).
+iclap::TriangleMesh test_object(iclap::Rng& rng) {
+  auto m = iclap::make_sphere(1.0, 40, 20);
+  for (iclap::Index v = 0; v < m.vertex_count(); ++v) m.vertices.col(v) *= 1.0 + 0.1 * rng.uniform();
+  iclap::append_mesh(m, iclap::transformed(iclap::make_box({1.5, 0.4, 0.4}),
+                                           Eigen::Affine3d(Eigen::Translation3d(1.0, 0.2, 0.1))));
+  return m;
+}
+
+std::optional<iclap::RayHit> brute_ray(const iclap::TriangleMesh& m, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                                       iclap::RaySide side) {
+  std::optional<iclap::RayHit> best;
+  for (iclap::Index t = 0; t < m.triangle_count(); ++t) {
+    const Eigen::Vector3d a = m.corner(t, 0), e1 = m.corner(t, 1) - a, e2 = m.corner(t, 2) - a;
+    const Eigen::Vector3d p = d.cross(e2);
+    const double det = e1.dot(p);
+    if (side == iclap::RaySide::front ? !(det > 0) : det == 0) continue;
+    const Eigen::Vector3d tv = o - a;
+    const double u = tv.dot(p) / det;
+    const Eigen::Vector3d q = tv.cross(e1);
+    const double v = d.dot(q) / det;
+    const double t_hit = e2.dot(q) / det;
+    if (u < 0 || u > 1 || v < 0 || u + v > 1 || t_hit < 0) continue;
+    if (!best || t_hit < best->t) best = iclap::RayHit{t_hit, t, m.area_normal(t).normalized()};
+  }
+  return best;
+}
+
+}  // namespace
+
+TEST_CASE("primitives: closed, outward, right volume") {
+  const auto box = iclap::make_box({2, 1, 0.5});
+  CHECK(iclap::signed_volume(box) == doctest::Approx(1.0));
+  CHECK(iclap::surface_area(box) == doctest::Approx(7.0));
+  const auto cyl = iclap::make_cylinder(0.5, 2.0, 64);
+  CHECK(iclap::signed_volume(cyl) == doctest::Approx(kPi * 0.25 * 2.0).epsilon(0.01));
+  const auto sphere = iclap::make_sphere(1.0, 64, 32);
+  CHECK(iclap::signed_volume(sphere) == doctest::Approx(4.0 / 3.0 * kPi).epsilon(0.01));
+  const auto capsule = iclap::make_capsule(0.5, 1.0, 64, 16);
+  CHECK(iclap::signed_volume(capsule) == doctest::Approx(kPi * 0.25 * 1.0 + 4.0 / 3.0 * kPi * 0.125).epsilon(0.01));
+  const auto cone = iclap::make_frustum(1.0, 0.0, 3.0, 64);
+  CHECK(iclap::signed_volume(cone) == doctest::Approx(kPi).epsilon(0.01));
+  // A non-convex outline (an L), given clockwise: still outward.
+  const auto ell = iclap::make_extrusion({{0, 0}, {0, 2}, {1, 2}, {1, 1}, {3, 1}, {3, 0}}, -0.5, 0.5);
+  CHECK(iclap::signed_volume(ell) == doctest::Approx(4.0));
+  CHECK(iclap::surface_area(ell) == doctest::Approx(2 * 4.0 + 10.0));
+  CHECK_THROWS_AS(iclap::make_extrusion({{0, 0}, {1, 1}, {2, 2}}, 0, 1), iclap::InvalidArgument);
+  CHECK_THROWS_AS(iclap::make_box({1, 0, 1}), iclap::InvalidArgument);
+}
+
+TEST_CASE("bvh: ray hits equal brute force") {
+  iclap::Rng rng(7);
+  const auto mesh = test_object(rng);
+  const iclap::MeshBvh bvh(mesh);
+  int hits = 0;
+  for (int i = 0; i < 400; ++i) {
+    // From around the object towards a point near it (most rays hit).
+    const Eigen::Vector3d o = 3.0 * random_unit(rng) * rng.uniform(0.2, 1.0);
+    const Eigen::Vector3d d = (1.2 * random_unit(rng) * rng.uniform() - o).normalized();
+    for (auto side : {iclap::RaySide::any, iclap::RaySide::front}) {
+      const auto a = bvh.intersect(o, d, std::numeric_limits<double>::infinity(), side);
+      const auto b = brute_ray(mesh, o, d, side);
+      REQUIRE(a.has_value() == b.has_value());
+      if (!a) continue;
+      ++hits;
+      CHECK(a->t == doctest::Approx(b->t).epsilon(1e-12));
+      if (a->t != b->t) continue;
+      CHECK(a->triangle == b->triangle);
+      CHECK(a->normal.isApprox(b->normal));
+      // A shorter t_max misses it.
+      CHECK_FALSE(bvh.intersect(o, d, a->t * 0.999, side).has_value());
+    }
+  }
+  CHECK(hits > 300);
+  // Axis-parallel rays (infinite inverse direction components).
+  const auto down = bvh.intersect({0.01, 0.02, 5}, {0, 0, -1});
+  REQUIRE(down.has_value());
+  CHECK(down->normal.z() > 0.5);
+}
+
+TEST_CASE("bvh: closest point equals brute force") {
+  iclap::Rng rng(8);
+  const auto mesh = test_object(rng);
+  const iclap::MeshBvh bvh(mesh);
+  for (int i = 0; i < 300; ++i) {
+    const Eigen::Vector3d p = 2.5 * Eigen::Vector3d(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    double best = std::numeric_limits<double>::infinity();
+    for (iclap::Index t = 0; t < mesh.triangle_count(); ++t) {
+      const Eigen::Vector3d q =
+          iclap::MeshBvh::closest_on_triangle(p, mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2));
+      best = std::min(best, (q - p).squaredNorm());
+    }
+    const auto c = bvh.closest_point(p);
+    CHECK(c.squared_distance == doctest::Approx(best).epsilon(1e-12));
+    CHECK((c.point - p).squaredNorm() == doctest::Approx(c.squared_distance).epsilon(1e-9));
+  }
+}
+
+TEST_CASE("convex hull: cube with interior points, random clouds") {
+  iclap::Rng rng(3);
+  Eigen::Matrix3Xd pts(3, 208);
+  for (int i = 0; i < 8; ++i) pts.col(i) = Eigen::Vector3d(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+  for (int i = 8; i < 208; ++i) pts.col(i) = Eigen::Vector3d(rng.uniform(), rng.uniform(), rng.uniform());
+  // Points on the faces too (coplanar with hull faces).
+  for (int i = 8; i < 40; ++i) pts(i % 3, i) = i % 2;
+  const auto hull = iclap::convex_hull(pts);
+  CHECK(hull.vertex_count() == 8);
+  CHECK(hull.triangle_count() == 12);
+  CHECK(iclap::signed_volume(hull) == doctest::Approx(1.0));
+
+  for (int trial = 0; trial < 5; ++trial) {
+    Eigen::Matrix3Xd cloud(3, 500);
+    for (int i = 0; i < 500; ++i) cloud.col(i) = random_unit(rng) * std::pow(rng.uniform(), 0.2) + Eigen::Vector3d(1e3, 0, 0);
+    const auto h = iclap::convex_hull(cloud);
+    // Closed (Euler: F = 2V - 4 for a triangulated sphere), outward, contains all points.
+    CHECK(h.triangle_count() == 2 * h.vertex_count() - 4);
+    CHECK(iclap::signed_volume(h) > 0);
+    for (iclap::Index t = 0; t < h.triangle_count(); ++t) {
+      const Eigen::Vector3d n = h.area_normal(t).normalized();
+      const double off = n.dot(h.corner(t, 0));
+      CHECK(((n.transpose() * cloud).array() - off).maxCoeff() < 1e-9);
+    }
+  }
+  Eigen::Matrix3Xd flat = Eigen::Matrix3Xd::Random(3, 20);
+  flat.row(2).setConstant(1.0);
+  CHECK_THROWS_AS(iclap::convex_hull(flat), iclap::InvalidArgument);
+}
+
+TEST_CASE("placement: a box in any pose lies on its largest face, axes along x and y") {
+  iclap::Rng rng(11);
+  for (int trial = 0; trial < 10; ++trial) {
+    auto box = iclap::make_box({0.2, 0.05, 0.02});
+    Eigen::Affine3d T = Eigen::Affine3d::Identity();
+    T.linear() = random_rotation(rng);
+    T.translation() = Eigen::Vector3d(rng.uniform(-300, 300), rng.uniform(-300, 300), rng.uniform(-300, 300));
+    iclap::transform_mesh(box, T);
+    const auto placed = iclap::place_on_table(box);
+    CHECK(placed.stable);
+    CHECK(placed.resting_face_area == doctest::Approx(0.2 * 0.05));
+    const auto b = iclap::mesh_bounds(placed.mesh);
+    CHECK(b.sizes().isApprox(Eigen::Vector3d(0.2, 0.05, 0.02), 1e-9));
+    CHECK(std::abs(b.min().z()) < 1e-12);
+    CHECK(std::abs(b.center().x()) < 1e-12);
+    CHECK(std::abs(b.center().y()) < 1e-12);
+    // The returned transform maps the input onto the output.
+    for (iclap::Index v = 0; v < box.vertex_count(); ++v)
+      CHECK((placed.T_table_mesh * Eigen::Vector3d(box.vertices.col(v)) - placed.mesh.vertices.col(v)).norm() < 1e-9);
+  }
+}
+
+TEST_CASE("placement: a half cylinder rests on its flat face, heavy end towards +x") {
+  iclap::Rng rng(12);
+  // Half disc outline extruded: flat face is the largest hull face.
+  auto outline = iclap::arc_points({0, 0}, 0.03, 0, kPi, 32);
+  auto half = iclap::make_extrusion(outline, 0, 0.1);
+  // A heavy block on one end of the long axis (z here).
+  iclap::append_mesh(half, iclap::transformed(iclap::make_box({0.02, 0.01, 0.02}),
+                                              Eigen::Affine3d(Eigen::Translation3d(0, 0.005, 0.09))));
+  Eigen::Affine3d T = Eigen::Affine3d::Identity();
+  T.linear() = random_rotation(rng);
+  iclap::transform_mesh(half, T);
+  const auto placed = iclap::place_on_table(half);
+  CHECK(placed.stable);
+  const auto b = iclap::mesh_bounds(placed.mesh);
+  CHECK(b.sizes().x() == doctest::Approx(0.1).epsilon(1e-6));
+  CHECK(b.sizes().y() == doctest::Approx(0.06).epsilon(1e-3));
+  CHECK(b.sizes().z() == doctest::Approx(0.03).epsilon(1e-3));
+  // The block (heavy end) is at +x.
+  // The block's extra volume puts the centre of mass 1.1 mm off centre.
+  CHECK(iclap::mass_centroid(placed.mesh).x() == doctest::Approx(0.0011).epsilon(0.05));
+}
+
+TEST_CASE("placement: shared real meshes become usable (flat, centred, in metres)") {
+  const std::string dir = std::string(ICLAP_SHARED_DIR) + "/data/meshes/";
+  if (std::string(ICLAP_SHARED_DIR).empty() || !std::ifstream(dir + "wt_pliers.ply")) {
+    MESSAGE("shared meshes not available; skipped");
+    return;
+  }
+  // wt_pliers: millimetres, CAD origin 0.25 m away. Tight box 0.247 x 0.059 x 0.021 m.
+  auto pliers = iclap::load_mesh(dir + "wt_pliers.ply");
+  iclap::scale_mesh(pliers, 1e-3);
+  const auto p = iclap::place_on_table(pliers);
+  CHECK(p.stable);
+  const auto b = iclap::mesh_bounds(p.mesh);
+  CHECK(b.sizes().x() == doctest::Approx(0.247).epsilon(0.02));
+  CHECK(b.sizes().z() < 0.025);
+  CHECK(std::abs(b.min().z()) < 1e-12);
+  // ycb adjustable wrench lies diagonally in its file: real length about 0.20 m.
+  const auto wrench = iclap::place_on_table(iclap::load_mesh(dir + "ycb_042_adjustable_wrench.obj"));
+  const auto w = iclap::mesh_bounds(wrench.mesh);
+  CHECK(w.sizes().x() == doctest::Approx(0.203).epsilon(0.03));
+  CHECK(w.sizes().z() < 0.02);
+}

@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: MIT
+// Mesh loaders on small fixtures of every format and encoding, malformed
+// fixtures rejected with their location.
+
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "iclap/mesh/load.hpp"
+#include "iclap/mesh/triangle_mesh.hpp"
+
+namespace {
+
+std::string fixture(const std::string& name) { return std::string(ICLAP_TEST_FIXTURES) + "/mesh/" + name; }
+
+// Every valid fixture is the box [0,2] x [0,1] x [0,0.5], outward normals.
+void check_box(const iclap::TriangleMesh& m, iclap::Index vertices) {
+  CHECK(m.vertex_count() == vertices);
+  CHECK(m.triangle_count() == 12);
+  CHECK_NOTHROW(iclap::validate_mesh(m));
+  CHECK(iclap::signed_volume(m) == doctest::Approx(1.0).epsilon(1e-12));
+  CHECK(iclap::surface_area(m) == doctest::Approx(7.0).epsilon(1e-12));
+  const auto box = iclap::mesh_bounds(m);
+  CHECK(box.min().isApprox(Eigen::Vector3d(0, 0, 0)));
+  CHECK(box.max().isApprox(Eigen::Vector3d(2, 1, 0.5)));
+  CHECK(iclap::mass_centroid(m).isApprox(Eigen::Vector3d(1, 0.5, 0.25), 1e-12));
+}
+
+void check_rejected(const std::string& file, std::size_t line, const std::string& reason_part) {
+  CAPTURE(file);
+  try {
+    iclap::load_mesh(fixture(file));
+    FAIL("accepted");
+  } catch (const iclap::ParseError& e) {
+    CHECK(e.file() == fixture(file));
+    CHECK(e.line() == line);
+    CHECK_MESSAGE(e.reason().find(reason_part) != std::string::npos, e.what());
+  }
+}
+
+}  // namespace
+
+TEST_CASE("mesh io: OBJ with v/vt/vn, v//vn, v/vt, quads, negative indices, CRLF") {
+  check_box(iclap::load_mesh(fixture("box_quads.obj")), 8);
+  // Polygons are fanned from their first vertex.
+  std::istringstream in("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 1.5 0 1.0\nf 1 2 3 5 4\n");
+  const auto m = iclap::load_obj(in, "pentagon");
+  REQUIRE(m.triangle_count() == 3);
+  CHECK(m.triangles.col(0) == Eigen::Vector3i(0, 1, 2));
+  CHECK(m.triangles.col(1) == Eigen::Vector3i(0, 2, 4));
+  CHECK(m.triangles.col(2) == Eigen::Vector3i(0, 4, 3));
+}
+
+TEST_CASE("mesh io: STL binary, binary starting with 'solid', ASCII") {
+  check_box(iclap::load_mesh(fixture("box_binary.stl")), 8);
+  check_box(iclap::load_mesh(fixture("box_binary_solid.stl")), 8);
+  check_box(iclap::load_mesh(fixture("box_ascii.stl")), 8);
+}
+
+TEST_CASE("mesh io: PLY ascii, binary little endian, binary big endian") {
+  check_box(iclap::load_mesh(fixture("box_ascii.ply")), 8);
+  check_box(iclap::load_mesh(fixture("box_binary_le.ply")), 8);
+  check_box(iclap::load_mesh(fixture("box_binary_be.ply")), 8);
+  // Extra vertex properties come back by name with read_ply.
+  const auto le = iclap::read_ply(fixture("box_binary_le.ply"));
+  REQUIRE(le.vertex_properties.count("red") == 1);
+  CHECK(le.vertex_properties.at("red") == std::vector<double>(8, 7.0));
+  const auto be = iclap::read_ply(fixture("box_binary_be.ply"));
+  CHECK(be.vertices == le.vertices);
+  CHECK(be.triangles == le.triangles);
+  const auto asc = iclap::read_ply(fixture("box_ascii.ply"));
+  CHECK(asc.vertex_properties.at("nx") == std::vector<double>(8, 0.5));
+  CHECK(asc.triangles == le.triangles);
+}
+
+TEST_CASE("mesh io: malformed files are rejected with their location") {
+  check_rejected("bad_index.obj", 6, "face vertex index 9 is out of range (3 vertices");
+  check_rejected("bad_number.obj", 2, "'zero' is not a finite number");
+  check_rejected("bad_face.obj", 4, "face has 2 vertices");
+  check_rejected("bad_ascii.stl", 5, "'nan' is not a finite number");
+  check_rejected("truncated_binary.stl", 0, "byte offset 80: binary STL announces 12 triangles (684 bytes)");
+  check_rejected("truncated_le.ply", 0, "byte offset");
+  check_rejected("truncated_le.ply", 0, "byte offset 618: file ends inside element 'face' item 4 property 'quality'");
+  check_rejected("bad_index_ascii.ply", 13, "vertex index 3 is out of range (3 vertices)");
+  check_rejected("bad_header.ply", 6, "unknown PLY type 'quaternion'");
+}
+
+TEST_CASE("mesh io: more malformed input, from streams") {
+  auto obj_error = [](const std::string& text) {
+    std::istringstream in(text);
+    try {
+      iclap::load_obj(in, "s.obj");
+    } catch (const iclap::ParseError& e) {
+      return std::to_string(e.line()) + ": " + e.reason();
+    }
+    return std::string("accepted");
+  };
+  CHECK(obj_error("v 0 0 0\nf 0 1 1\n") == "2: face vertex index 0 (OBJ indices start at 1)");
+  CHECK(obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n").rfind("4: relative face vertex index -4", 0) == 0);
+  CHECK(obj_error("v 0 0\n").rfind("1: vertex needs three coordinates", 0) == 0);
+  CHECK(obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/x 2 a\n").rfind("4: face vertex 'a' is not an index", 0) == 0);
+  CHECK(obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\n") == "0: no faces (f lines) in the file");
+  // Forward references are fine when the vertex comes later.
+  CHECK(obj_error("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n") == "accepted");
+
+  auto stl_error = [](const std::string& text) {
+    std::istringstream in(text);
+    try {
+      iclap::load_stl(in, "s.stl");
+    } catch (const iclap::ParseError& e) {
+      return std::to_string(e.line()) + ": " + e.reason();
+    }
+    return std::string("accepted");
+  };
+  CHECK(stl_error("solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid a\n")
+            .rfind("3: facet loop has 2 vertices", 0) == 0);
+  CHECK(stl_error("solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n").rfind("4: file ends inside a facet", 0) == 0);
+  CHECK(stl_error("solid a\nbanana\n").rfind("2: unknown ASCII STL keyword 'banana'", 0) == 0);
+  CHECK(stl_error("hello").rfind("0: not an STL file", 0) == 0);
+
+  auto ply_error = [](const std::string& text) {
+    std::istringstream in(text);
+    try {
+      iclap::load_ply(in, "s.ply");
+    } catch (const iclap::ParseError& e) {
+      return std::to_string(e.line()) + ": " + e.reason();
+    }
+    return std::string("accepted");
+  };
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+  CHECK(ply_error("plx\n").rfind("1: not a PLY file", 0) == 0);
+  CHECK(ply_error(head + "end_header\n0 0 0\n1 0 0\n0 1 0\n").rfind("0: PLY file has no faces", 0) == 0);
+  CHECK(ply_error(head + "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0 7\n0 1 0\n3 0 1 2\n")
+            .rfind("11: extra values after element 'vertex' item 1", 0) == 0);
+  CHECK(ply_error(head + "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n")
+            .rfind("13: element 'face' item 0 property 'vertex_indices': '1.5' is not an integer", 0) == 0);
+  CHECK(ply_error(head + "element face 1\nproperty list uchar int vertex_indices\n").rfind("8: PLY header has no 'end_header'", 0) == 0);
+  CHECK(ply_error("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n")
+            .rfind("3: element 'vertex' lacks a scalar property x, y or z", 0) == 0);
+  CHECK(ply_error("ply\nformat binary_middle_endian 1.0\n").rfind("2: unknown PLY format", 0) == 0);
+}
+
+TEST_CASE("mesh io: load_mesh picks the format by extension, units") {
+  CHECK_THROWS_AS(iclap::load_mesh(fixture("make_fixtures.py")), iclap::InvalidArgument);
+  CHECK_THROWS_AS(iclap::load_mesh(fixture("missing.obj")), iclap::IoError);
+  CHECK(iclap::is_mesh_file("a/b.PLY"));
+  CHECK_FALSE(iclap::is_mesh_file("a.ply/b"));
+  CHECK(iclap::parse_length_unit("mm") == iclap::LengthUnit::millimetres);
+  CHECK(iclap::metres_per_unit(iclap::LengthUnit::millimetres) == 1e-3);
+  CHECK_THROWS_AS(iclap::parse_length_unit("cm"), iclap::InvalidArgument);
+  auto m = iclap::load_mesh(fixture("box_binary_be.ply"));
+  iclap::scale_mesh(m, 1e-3);
+  CHECK(iclap::mesh_bounds(m).max().isApprox(Eigen::Vector3d(2e-3, 1e-3, 0.5e-3)));
+}
+
+TEST_CASE("mesh io: the shared real meshes load with their documented sizes") {
+  const std::string dir = std::string(ICLAP_SHARED_DIR) + "/data/meshes/";
+  if (std::string(ICLAP_SHARED_DIR).empty() || !std::ifstream(dir + "wt_pliers.ply")) {
+    MESSAGE("shared meshes not available; skipped");
+    return;
+  }
+  // Counts from SOURCES.md.
+  const auto pliers = iclap::load_mesh(dir + "wt_pliers.ply");
+  CHECK(pliers.triangle_count() == 15130);
+  CHECK(pliers.vertex_count() == 7612);
+  CHECK(iclap::signed_volume(pliers) / 1000.0 == doctest::Approx(81.15).epsilon(0.01));  // cm^3
+  const auto scissors = iclap::load_mesh(dir + "ycb_037_scissors.obj");
+  CHECK(scissors.triangle_count() == 16384);
+  CHECK(scissors.vertex_count() == 8188);
+  CHECK(iclap::signed_volume(scissors) * 1e6 == doctest::Approx(46.8).epsilon(0.01));
+}
