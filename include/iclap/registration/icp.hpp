@@ -1,0 +1,270 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <type_traits>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "iclap/core/check.hpp"
+#include "iclap/core/types.hpp"
+#include "iclap/registration/correspondence.hpp"
+#include "iclap/registration/models/full_rigid.hpp"
+#include "iclap/registration/reference_cloud.hpp"
+#include "iclap/registration/rejector.hpp"
+#include "iclap/registration/result.hpp"
+#include "iclap/registration/termination.hpp"
+#include "iclap/registration/transform.hpp"
+
+namespace iclap {
+
+/// Reusable buffers of `Icp::align`. Passing the same workspace to many
+/// registrations (one per thread) removes their per-call allocations; with a
+/// fixed `Dim` the iterations never allocate either way.
+template <typename Scalar, int Dim>
+struct IcpWorkspace {
+  Cloud<Scalar, Dim> test_points;
+  std::vector<Correspondence<Scalar>> pairs;
+};
+
+/// Iterative Closest (Labeled) Point in `Dim` dimensions (paper, Section III).
+///
+/// Each iteration matches every test point to its closest reference point
+/// under the current transform (through the reference's search structure,
+/// built once), rejects pairs with `rejection`, then re-estimates the motion
+/// from the kept pairs in closed form: centroids c_p, c_q, cross-covariance
+/// H = sum p'_i q'_i^T, R = V U^T from H = U S V^T with det R = +1, and
+/// t = c_q - R c_p. `Model` restricts which coordinates move (FullRigid:
+/// all, the paper's iCLAP; SpatialRigid: x, y, z; Planar: rotation about z
+/// and x, y translation; Translation: x, y, z shift).
+///
+/// Precision: both clouds are expressed relative to the reference centroid
+/// and sums are accumulated in double (also for float clouds), so a large
+/// coordinate offset costs no more than the rounding of the inputs.
+///
+/// Thread safety: `align` is const and re-entrant; one `Icp` and one
+/// `ReferenceCloud` can serve many threads (give each its own workspace).
+///
+/// Complexity per iteration: n nearest-neighbour queries (O(n log m) with the
+/// kd-tree), O(n B^2) for the covariance and one B x B SVD, B the number of
+/// moved coordinates.
+template <typename Scalar, int Dim, typename Model = FullRigid,
+          typename Rejector = DistanceRejector<Scalar>, typename Termination = PaperTermination<Scalar>>
+class Icp {
+  ICLAP_CHECK_SCALAR_AND_DIM(Scalar, Dim);
+  static constexpr int B = Model::template block<Dim>;
+  static_assert(Dim == Eigen::Dynamic || (B != Eigen::Dynamic && B <= Dim),
+                "iclap::Icp: the transform model moves more coordinates than the points have "
+                "(SpatialRigid needs Dim >= 3, Planar needs Dim >= 2)");
+
+ public:
+  using Transform = RigidTransform<Scalar, Dim>;
+  using Result = RegistrationResult<Scalar, Dim>;
+  using Workspace = IcpWorkspace<Scalar, Dim>;
+  using ModelType = Model;
+
+  /// When to stop (paper's three rules by default).
+  Termination termination;
+  /// Which pairs to keep (all by default).
+  Rejector rejection;
+  /// Start by translating the test centroid onto the reference centroid
+  /// (along the coordinates the model translates), after `initial`.
+  bool centroid_alignment = false;
+
+  /// Registers `test` (one point per column, any floating scalar) against
+  /// `reference`, starting from the identity.
+  template <typename Search, typename Derived>
+  Result align(const ReferenceCloud<Scalar, Dim, Search>& reference, const Eigen::MatrixBase<Derived>& test) const {
+    Workspace ws;
+    return run(reference, test, nullptr, ws);
+  }
+
+  /// Same, starting from `initial` (a guess of T_model_test; the model's
+  /// motion is estimated on top of it, so any rigid guess is allowed).
+  template <typename Search, typename Derived>
+  Result align(const ReferenceCloud<Scalar, Dim, Search>& reference, const Eigen::MatrixBase<Derived>& test,
+               const Transform& initial) const {
+    Workspace ws;
+    return run(reference, test, &initial, ws);
+  }
+
+  /// Same, with caller-owned buffers (`initial` may be null: identity).
+  template <typename Search, typename Derived>
+  Result align(const ReferenceCloud<Scalar, Dim, Search>& reference, const Eigen::MatrixBase<Derived>& test,
+               const Transform* initial, Workspace& workspace) const {
+    return run(reference, test, initial, workspace);
+  }
+
+ private:
+  using Acc = Accumulator<Scalar>;
+  using BlockMatrix = SquareMatrix<Scalar, B>;
+  using BlockVector = Point<Scalar, B>;
+  using AccBlockMatrix = SquareMatrix<Acc, B>;
+  using AccBlockVector = Point<Acc, B>;
+
+  template <typename V>
+  static auto block_of(V&& v, Index b) {
+    if constexpr (B == Eigen::Dynamic) {
+      return v.head(b);
+    } else {
+      (void)b;
+      return v.template head<B>();
+    }
+  }
+
+  /// Matches every working test point under (R, t) and applies the rejector.
+  /// Returns E over the kept pairs, which are moved to the front.
+  template <typename Search>
+  Acc correspond(const Cloud<Scalar, Dim>& P, const BlockMatrix& R, const BlockVector& t, const Search& search,
+                 Point<Scalar, Dim>& y, std::vector<Correspondence<Scalar>>& pairs, Index b, Index& kept) const {
+    const Index n = P.cols();
+    for (Index i = 0; i < n; ++i) {
+      y = P.col(i);
+      auto yb = block_of(y, b);
+      yb.noalias() = R * block_of(P.col(i), b);
+      yb += t;
+      const auto nb = search.nearest(y.data());
+      pairs[static_cast<std::size_t>(i)] = {i, nb.index, nb.squared_distance};
+    }
+    kept = rejection.select(pairs.data(), n);
+    Acc e = 0;
+    for (Index k = 0; k < kept; ++k) e += static_cast<Acc>(pairs[static_cast<std::size_t>(k)].squared_distance);
+    return e;
+  }
+
+  /// Two-pass centroids and cross-covariance of the kept pairs (block
+  /// coordinates), then the model's closed-form estimate.
+  BlockEstimate<Acc, B> estimate(const Cloud<Scalar, Dim>& P, const Cloud<Scalar, Dim>& M,
+                                 const std::vector<Correspondence<Scalar>>& pairs, Index kept, Index b) const {
+    AccBlockVector cp = AccBlockVector::Zero(b), cq = AccBlockVector::Zero(b);
+    for (Index k = 0; k < kept; ++k) {
+      const auto& c = pairs[static_cast<std::size_t>(k)];
+      cp += block_of(P.col(c.test), b).template cast<Acc>();
+      cq += block_of(M.col(c.model), b).template cast<Acc>();
+    }
+    cp /= static_cast<Acc>(kept);
+    cq /= static_cast<Acc>(kept);
+    AccBlockMatrix H = AccBlockMatrix::Zero(b, b);
+    if constexpr (Model::uses_covariance) {
+      AccBlockVector dp(b), dq(b);
+      for (Index k = 0; k < kept; ++k) {
+        const auto& c = pairs[static_cast<std::size_t>(k)];
+        dp = block_of(P.col(c.test), b).template cast<Acc>() - cp;
+        dq = block_of(M.col(c.model), b).template cast<Acc>() - cq;
+        H.noalias() += dp * dq.transpose();
+      }
+    }
+    return Model::template estimate<Acc, B>(cp, cq, H, detail::rank_tolerance<Scalar>(b));
+  }
+
+  template <typename Search, typename Derived>
+  Result run(const ReferenceCloud<Scalar, Dim, Search>& reference, const Eigen::MatrixBase<Derived>& test,
+             const Transform* initial, Workspace& ws) const {
+    static_assert(std::is_floating_point_v<typename Derived::Scalar>, "iclap::Icp: test points must be floating point");
+    termination.validate();
+    rejection.validate();
+    if (reference.size() == 0) throw EmptyInput("reference", "is empty (default-constructed)");
+    check_not_empty(test, "test");
+    const Index d = reference.dim();
+    check_dimension(test.rows(), d, "test");
+    check_finite(test, "test");
+    Model::check_dimension(d);
+    if (initial) initial->validate(d, "initial");
+    const Index b = Model::block_size(d);
+    const Index n = test.cols();
+
+    // Working test points p' = W (T0(p) - c), computed as W (R0 (p - c) + (R0 - I) c + t0).
+    using AccPoint = Point<Acc, Dim>;
+    using AccMatrix = SquareMatrix<Acc, Dim>;
+    const AccPoint c = reference.centroid_accurate();
+    const AccPoint w = reference.weights().template cast<Acc>();
+    ws.test_points.resize(d, n);
+    const bool rotate0 = initial && !initial->R.isIdentity(Scalar(0));
+    AccMatrix R0;
+    AccPoint o = AccPoint::Zero(d);
+    if (initial) {
+      R0 = initial->R.template cast<Acc>();
+      o = initial->t.template cast<Acc>();
+      if (rotate0) o += R0 * c - c;
+    }
+    AccPoint tmp(d);
+    for (Index j = 0; j < n; ++j) {
+      tmp = test.col(j).template cast<Acc>() - c;
+      if (rotate0) tmp = (R0 * tmp).eval();
+      tmp += o;
+      ws.test_points.col(j) = w.cwiseProduct(tmp).template cast<Scalar>();
+    }
+    const Cloud<Scalar, Dim>& P = ws.test_points;
+    const Cloud<Scalar, Dim>& M = reference.working_points();
+    ws.pairs.resize(static_cast<std::size_t>(n));
+
+    // Block motion in working coordinates.
+    AccBlockMatrix R_acc = AccBlockMatrix::Identity(b, b);
+    AccBlockVector t_acc = AccBlockVector::Zero(b);
+    if (centroid_alignment) {
+      for (Index j = 0; j < n; ++j) t_acc -= block_of(P.col(j), b).template cast<Acc>();
+      t_acc /= static_cast<Acc>(n);  // the reference centroid is the working origin
+    }
+    BlockMatrix R = R_acc.template cast<Scalar>();
+    BlockVector t = t_acc.template cast<Scalar>();
+    Point<Scalar, Dim> y(d);
+
+    Result result;
+    Index kept = 0;
+    Acc error = 0, previous = 0;
+    int iterations = 0;
+    for (;;) {
+      error = correspond(P, R, t, reference.search(), y, ws.pairs, b, kept);
+      if (kept == 0) {
+        result.stop_reason = StopReason::NoCorrespondences;
+        break;
+      }
+      if (const auto stop = termination.check(iterations, static_cast<Scalar>(error), static_cast<Scalar>(previous))) {
+        result.stop_reason = *stop;
+        break;
+      }
+      const auto e = estimate(P, M, ws.pairs, kept, b);
+      R_acc = e.R;
+      t_acc = e.t;
+      R = R_acc.template cast<Scalar>();
+      t = t_acc.template cast<Scalar>();
+      ++iterations;
+      previous = error;
+    }
+
+    result.iterations = iterations;
+    result.converged = result.stop_reason == StopReason::AbsoluteTolerance ||
+                       result.stop_reason == StopReason::RelativeTolerance;
+    result.pairs = kept;
+    if (kept > 0) {
+      result.error = static_cast<Scalar>(error);
+      result.rmse = static_cast<Scalar>(std::sqrt(error / static_cast<Acc>(kept)));
+      result.degenerate = estimate(P, M, ws.pairs, kept, b).degenerate;
+    } else {
+      result.error = result.rmse = std::numeric_limits<Scalar>::infinity();
+      result.degenerate = true;
+    }
+
+    // Back to original coordinates: with A = W^-1 blockdiag(R_w, I) W and
+    // b' = (t_w, 0), T = A T0 + (I - A) c + W^-1 b'.
+    AccMatrix A = AccMatrix::Identity(d, d);
+    const AccBlockVector wb = block_of(w, b);
+    A.topLeftCorner(b, b) = wb.cwiseInverse().asDiagonal() * R_acc * wb.asDiagonal();
+    AccPoint translation = AccPoint::Zero(d);
+    translation.head(b) = (AccBlockMatrix::Identity(b, b) - A.topLeftCorner(b, b)) * block_of(c, b) +
+                          t_acc.cwiseQuotient(wb);
+    AccMatrix R_final = A;
+    if (initial) {
+      R_final = A * initial->R.template cast<Acc>();
+      translation += A * initial->t.template cast<Acc>();
+    }
+    result.T_model_test.R = R_final.template cast<Scalar>();
+    result.T_model_test.t = translation.template cast<Scalar>();
+    return result;
+  }
+};
+
+}  // namespace iclap

@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cmath>
+
+#include <Eigen/SVD>
+
+#include "iclap/core/error.hpp"
+#include "iclap/registration/models/procrustes.hpp"
+
+namespace iclap {
+
+/// Transform model: rotation about z and translation in the (x, y) plane,
+/// SE(2) acting on the first two coordinates. An object lying on a table
+/// and re-placed moves like this; z and any further coordinates are never
+/// moved. Needs Dim >= 2.
+struct Planar {
+  static constexpr const char* name = "planar";
+  template <int Dim>
+  static constexpr int block = 2;
+  static Index block_size(Index /*dim*/) noexcept { return 2; }
+  static constexpr bool uses_covariance = true;
+  static void check_dimension(Index dim) {
+    if (dim < 2)
+      throw InvalidArgument("test", "the planar transform model needs at least 2 coordinates (x, y), got " +
+                                        std::to_string(dim));
+  }
+  /// Closed form: tr(R H) = cos(a) (H00 + H11) + sin(a) (H01 - H10) is
+  /// maximal at a = atan2(H01 - H10, H00 + H11); always a proper rotation.
+  template <typename Acc, int B>
+  static BlockEstimate<Acc, B> estimate(const Point<Acc, B>& cp, const Point<Acc, B>& cq,
+                                        const SquareMatrix<Acc, B>& H, double rank_tol) {
+    static_assert(B == 2, "Planar acts on a 2-coordinate block");
+    BlockEstimate<Acc, B> e;
+    const Acc angle = std::atan2(H(0, 1) - H(1, 0), H(0, 0) + H(1, 1));
+    const Acc c = std::cos(angle), s = std::sin(angle);
+    e.R << c, -s, s, c;
+    e.t = cq - e.R * cp;
+    const Eigen::JacobiSVD<SquareMatrix<Acc, 2>> svd(H);
+    e.degenerate = detail::rank_deficient<Acc, 2>(svd.singularValues(), rank_tol);
+    return e;
+  }
+};
+
+}  // namespace iclap

@@ -1,0 +1,103 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <string>
+#include <utility>
+
+#include <Eigen/Core>
+
+#include "iclap/core/check.hpp"
+#include "iclap/core/types.hpp"
+#include "iclap/search/kdtree.hpp"
+
+namespace iclap {
+
+/// The model side of a registration, prepared once and shared by any number
+/// of registrations (recognition registers every test against the same
+/// references): the points, centred on their centroid and scaled by the
+/// per-axis weights, inside a search structure (a kd-tree by default).
+///
+/// Per-axis weights w define the metric of both the closest-point search and
+/// the error: d(p, q)^2 = sum_k (w_k (p_k - q_k))^2. A weight is a scale,
+/// e.g. (1, 1, 1, 0.002) makes one word-label step count as 2 mm. Transforms
+/// are estimated in that weighted space, so a model that rotates axes with
+/// different weights returns W^-1 R_w W (see `RigidTransform`).
+///
+/// Centring on the centroid keeps the arithmetic at the object's scale when
+/// the coordinates carry a large offset (a rig far from the world origin).
+///
+/// Immutable after construction; copies share the search structure; const
+/// use is thread-safe.
+template <typename Scalar, int Dim, typename Search = KdTreeSearch<Scalar, Dim>>
+class ReferenceCloud {
+  ICLAP_CHECK_SCALAR_AND_DIM(Scalar, Dim);
+
+ public:
+  using CloudType = Cloud<Scalar, Dim>;
+  using Vector = Point<Scalar, Dim>;
+  using SearchType = Search;
+  using Acc = Accumulator<Scalar>;
+
+  ReferenceCloud() = default;
+
+  /// Unit weights. Throws EmptyInput / NonFiniteValue / DimensionMismatch
+  /// naming `points`.
+  template <typename Derived>
+  explicit ReferenceCloud(const Eigen::MatrixBase<Derived>& points,
+                          const typename Search::Settings& search_settings = {})
+      : ReferenceCloud(points, Vector::Ones(points.rows()), search_settings) {}
+
+  /// Weighted metric. Weights must be finite and > 0, one per coordinate
+  /// (errors name `weights`).
+  template <typename Derived, typename WeightsDerived>
+  ReferenceCloud(const Eigen::MatrixBase<Derived>& points, const Eigen::MatrixBase<WeightsDerived>& weights,
+                 const typename Search::Settings& search_settings = {}) {
+    check_not_empty(points, "points");
+    if (Dim > 0) check_dimension(points.rows(), Dim, "points");
+    check_finite(points, "points");
+    check_dimension(weights.size(), points.rows(), "weights");
+    check_finite(weights, "weights");
+    for (Index k = 0; k < weights.size(); ++k)
+      if (!(weights(k) > 0))
+        throw InvalidArgument("weights", "must be > 0, got " + std::to_string(static_cast<double>(weights(k))) +
+                                             " for coordinate " + std::to_string(k));
+    weights_ = weights.template cast<Scalar>();
+    centroid_ = centroid_of(points);
+    CloudType work(points.rows(), points.cols());
+    const Point<Acc, Dim> c = centroid_acc_;
+    const Point<Acc, Dim> w = weights_.template cast<Acc>();
+    for (Index j = 0; j < points.cols(); ++j)
+      work.col(j) = (w.cwiseProduct(points.col(j).template cast<Acc>() - c)).template cast<Scalar>();
+    search_ = Search(std::move(work), search_settings);
+  }
+
+  Index size() const noexcept { return search_.size(); }
+  Index dim() const noexcept { return weights_.size(); }
+  /// Centroid of the points, original coordinates.
+  const Vector& centroid() const noexcept { return centroid_; }
+  /// The same, in the accumulation precision it was computed in.
+  const Point<Acc, Dim>& centroid_accurate() const noexcept { return centroid_acc_; }
+  const Vector& weights() const noexcept { return weights_; }
+  /// The search structure over the working points W (p - centroid).
+  const Search& search() const noexcept { return search_; }
+  /// The working points W (p - centroid), one per column.
+  const CloudType& working_points() const noexcept { return search_.points(); }
+
+ private:
+  template <typename Derived>
+  Vector centroid_of(const Eigen::MatrixBase<Derived>& points) {
+    // Two-pass mean around the first point: exact enough at any offset.
+    const Point<Acc, Dim> p0 = points.col(0).template cast<Acc>();
+    Point<Acc, Dim> sum = Point<Acc, Dim>::Zero(points.rows());
+    for (Index j = 0; j < points.cols(); ++j) sum += points.col(j).template cast<Acc>() - p0;
+    centroid_acc_ = p0 + sum / static_cast<Acc>(points.cols());
+    return centroid_acc_.template cast<Scalar>();
+  }
+
+  Vector centroid_;
+  Point<Acc, Dim> centroid_acc_;
+  Vector weights_;
+  Search search_;
+};
+
+}  // namespace iclap

@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "iclap/core/error.hpp"
+#include "iclap/registration/correspondence.hpp"
+
+namespace iclap {
+
+/// Correspondence rejection policy of `Icp`: a maximum correspondence
+/// distance, then trimming (Chetverikov et al.'s trimmed ICP: keep the
+/// closest fraction of the remaining pairs). The defaults reject nothing,
+/// which is the paper's plain ICP.
+///
+/// A custom rejector provides `void validate() const` and
+/// `Index select(Correspondence<Scalar>* pairs, Index n) const`, which moves
+/// the kept pairs to the front and returns how many it kept. It must be
+/// deterministic (same input, same output).
+template <typename Scalar>
+struct DistanceRejector {
+  /// Pairs farther apart than this (weighted distance, the cloud's units)
+  /// are dropped. Infinity: none.
+  Scalar max_distance = std::numeric_limits<Scalar>::infinity();
+  /// Fraction of the remaining pairs kept, the closest ones, in (0, 1]; the
+  /// count is rounded up, so at least one pair survives. 1: no trimming.
+  Scalar trim_fraction = 1;
+
+  void validate() const {
+    if (!(max_distance > 0)) throw InvalidArgument("rejection.max_distance", "must be > 0 (got " + std::to_string(max_distance) + ")");
+    if (!(trim_fraction > 0 && trim_fraction <= 1))
+      throw InvalidArgument("rejection.trim_fraction", "must be in (0, 1] (got " + std::to_string(trim_fraction) + ")");
+  }
+
+  /// O(n) (distance) plus O(n) expected (nth_element) when trimming. Ties at
+  /// the trimming boundary are broken by test index, so the kept set is
+  /// unique.
+  Index select(Correspondence<Scalar>* pairs, Index n) const {
+    Index kept = n;
+    if (max_distance < std::numeric_limits<Scalar>::infinity()) {
+      const Scalar limit = max_distance * max_distance;
+      kept = static_cast<Index>(std::partition(pairs, pairs + n, [limit](const auto& c) {
+                                   return c.squared_distance <= limit;
+                                 }) -
+                                pairs);
+    }
+    if (trim_fraction < 1 && kept > 0) {
+      // The 1 - 1e-12 guards against products such as 0.7 * 10 = 7.0000000000000009.
+      const double want = std::ceil(static_cast<double>(trim_fraction) * static_cast<double>(kept) * (1.0 - 1e-12));
+      const Index keep = std::clamp<Index>(static_cast<Index>(want), 1, kept);
+      if (keep < kept) {
+        std::nth_element(pairs, pairs + keep - 1, pairs + kept, [](const auto& a, const auto& b) {
+          return a.squared_distance < b.squared_distance ||
+                 (a.squared_distance == b.squared_distance && a.test < b.test);
+        });
+        kept = keep;
+      }
+    }
+    return kept;
+  }
+};
+
+}  // namespace iclap

@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include "iclap/core/error.hpp"
+
+namespace iclap {
+
+/// Why a registration stopped.
+enum class StopReason {
+  AbsoluteTolerance,  ///< E at or below the absolute tolerance (converged)
+  RelativeTolerance,  ///< relative change of E below the threshold (converged)
+  MaxIterations,      ///< the iteration cap was reached (not converged)
+  NoCorrespondences,  ///< rejection left no pair (not converged)
+};
+
+/// Stable lower-case name of a stop reason ("absolute_tolerance", ...).
+inline const char* to_string(StopReason r) noexcept {
+  switch (r) {
+    case StopReason::AbsoluteTolerance: return "absolute_tolerance";
+    case StopReason::RelativeTolerance: return "relative_tolerance";
+    case StopReason::MaxIterations: return "max_iterations";
+    case StopReason::NoCorrespondences: return "no_correspondences";
+  }
+  return "unknown";
+}
+
+/// The paper's termination rules (Section III, last paragraph): stop when
+/// any holds, checked in this order after each correspondence search:
+///  1. E <= `absolute_tolerance`. The paper prints "E_iCLAP > preset
+///     tolerance", which would stop every run at once; this is the sane
+///     reading of that first rule.
+///  2. |E_prev - E| < `relative_tolerance` * E_prev (the relative change
+///     between two consecutive iterations falls below the threshold).
+///  3. `max_iterations` transform updates have been made (n_max).
+///
+/// A negative absolute tolerance disables rule 1 (0 stops only at an exact
+/// fit); a relative tolerance of 0 disables rule 2; so `max_iterations = 50`
+/// with both disabled forces exactly 50 iterations.
+///
+/// A custom termination policy provides `void validate() const` and
+/// `std::optional<StopReason> check(int iterations, Scalar E, Scalar E_prev) const`
+/// (E_prev is meaningless when iterations == 0).
+template <typename Scalar>
+struct PaperTermination {
+  int max_iterations = 50;
+  Scalar absolute_tolerance = 0;
+  Scalar relative_tolerance = Scalar(1e-6);
+
+  void validate() const {
+    if (max_iterations < 0)
+      throw InvalidArgument("termination.max_iterations", "must be >= 0 (got " + std::to_string(max_iterations) + ")");
+    if (std::isnan(absolute_tolerance))
+      throw InvalidArgument("termination.absolute_tolerance", "must not be NaN");
+    if (!(relative_tolerance >= 0) || !std::isfinite(relative_tolerance))
+      throw InvalidArgument("termination.relative_tolerance", "must be finite and >= 0 (got " + std::to_string(relative_tolerance) + ")");
+  }
+
+  std::optional<StopReason> check(int iterations, Scalar error, Scalar previous_error) const {
+    if (error <= absolute_tolerance) return StopReason::AbsoluteTolerance;
+    if (iterations > 0 && std::abs(previous_error - error) < relative_tolerance * previous_error)
+      return StopReason::RelativeTolerance;
+    if (iterations >= max_iterations) return StopReason::MaxIterations;
+    return std::nullopt;
+  }
+};
+
+}  // namespace iclap

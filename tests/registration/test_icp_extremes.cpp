@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: MIT
+// Numerical stability of the N-D ICP at the extremes: large offsets, tiny and
+// huge scales, reflections, degenerate geometry, tiny clouds.
+
+#include "icp_test_util.hpp"
+
+using namespace iclap;
+using namespace iclap::test;
+
+constexpr int Dyn = Eigen::Dynamic;
+#define ICLAP_EXTREME_CONFIGS                                                                            \
+  Config<float, 2, 2, FullRigid>, Config<float, 3, 3, FullRigid>, Config<float, 4, 4, FullRigid>,        \
+      Config<float, 8, 8, FullRigid>, Config<float, Dyn, 67, FullRigid>, Config<float, 4, 4, SpatialRigid>, \
+      Config<double, 2, 2, FullRigid>, Config<double, 3, 3, FullRigid>, Config<double, 4, 4, FullRigid>, \
+      Config<double, 8, 8, FullRigid>, Config<double, Dyn, 67, FullRigid>, Config<double, 4, 4, SpatialRigid>
+
+namespace {
+
+/// Registers T^-1(model) against model, where model = scale * unit cloud +
+/// offset and T is a motion about the cloud centre (rotation, and a shift of
+/// 3% of the scale). Returns the recovered rotation and the recovered local
+/// translation T(o) - o divided by the scale, so that results at any offset
+/// and scale are comparable with those at the origin and unit scale.
+template <typename C>
+std::pair<Eigen::MatrixXd, Eigen::VectorXd> recovered_motion(double offset, double scale) {
+  using S = typename C::Scalar;
+  const Index d = C::dim;
+  const Eigen::MatrixXd unit = random_points(d, d > 10 ? 160 : 200, 101);
+  Eigen::VectorXd t;
+  const Eigen::MatrixXd R = random_motion<typename C::Model>(d, 0.05, 0.03, 102, t);
+  const Eigen::VectorXd o = Eigen::VectorXd::Constant(d, offset);
+  const Eigen::MatrixXd model = (scale * unit).colwise() + o;
+  const Eigen::MatrixXd test = (R.transpose() * ((scale * unit).colwise() - scale * t)).colwise() + o;
+  Icp<S, C::Dim, typename C::Model> icp;
+  icp.termination.max_iterations = 100;
+  const auto r = icp.align(ReferenceCloud<S, C::Dim>(model.template cast<S>()), test.template cast<S>());
+  REQUIRE(r.converged);
+  REQUIRE(r.T_model_test.R.allFinite());
+  const Eigen::MatrixXd Rr = r.T_model_test.R.template cast<double>();
+  const Eigen::VectorXd tr = r.T_model_test.t.template cast<double>();
+  // T(o) - o = R o + t - o, computed as (R - I) o + t.
+  const Eigen::VectorXd local = ((Rr - Eigen::MatrixXd::Identity(d, d)) * o + tr) / scale;
+  CHECK(difference(Rr, R) < eps<S>(400) * (1.0 + offset / scale));
+  return {Rr, local};
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("a large coordinate offset recovers the same motion as at the origin", C, ICLAP_EXTREME_CONFIGS) {
+  using S = typename C::Scalar;
+  const double offset = std::is_same_v<S, double> ? 1e6 : 1e3;
+  const auto [R0, t0] = recovered_motion<C>(0.0, 1.0);
+  const auto [R1, t1] = recovered_motion<C>(offset, 1.0);
+  // Inputs are rounded at eps * offset, so that is the attainable accuracy.
+  const double tol = eps<S>(400) * (1.0 + offset);
+  CHECK(difference(R0, R1) < tol);
+  CHECK(difference(t0, t1) < tol);
+}
+
+TEST_CASE_TEMPLATE("scales from 1e-6 m to 1e3 m recover the same motion", C, ICLAP_EXTREME_CONFIGS) {
+  using S = typename C::Scalar;
+  const auto [R0, t0] = recovered_motion<C>(0.0, 1.0);
+  for (double scale : {1e-6, 1e-3, 1e3}) {
+    CAPTURE(scale);
+    const auto [R1, t1] = recovered_motion<C>(0.0, scale);
+    CHECK(difference(R0, R1) < eps<S>(400));
+    CHECK(difference(t0, t1) < eps<S>(400));
+  }
+}
+
+TEST_CASE_TEMPLATE("point sets whose SVD gives det = -1 return a proper rotation", C, ICLAP_EXTREME_CONFIGS) {
+  using S = typename C::Scalar;
+  const Index d = C::dim;
+  // The test cloud is the mirror image of the model: the best orthogonal map
+  // is a reflection, which the guard must refuse.
+  const Eigen::MatrixXd model = random_points(d, d > 10 ? 160 : 200, 55);
+  Eigen::MatrixXd test = model;
+  test.row(0) *= -1.0;
+  Icp<S, C::Dim, typename C::Model> icp;
+  const auto r = icp.align(ReferenceCloud<S, C::Dim>(model.template cast<S>()), test.template cast<S>());
+  const Eigen::MatrixXd R = r.T_model_test.R.template cast<double>();
+  const Index b = C::Model::block_size(d);
+  CHECK(R.allFinite());
+  CHECK(std::abs(R.determinant() - 1.0) < eps<S>(1000));
+  CHECK(difference(R.topLeftCorner(b, b).transpose() * R.topLeftCorner(b, b), Eigen::MatrixXd::Identity(b, b)) <
+        eps<S>(1000));
+  CHECK(std::isfinite(r.error));
+}
+
+TEST_CASE("the reflection guard picks the best proper rotation") {
+  // H = diag(3, 2, -1): V U^T is a reflection; over SO(3), tr(R H) is
+  // maximal (= 4) at R = I.
+  const Eigen::Matrix3d H = Eigen::Vector3d(3, 2, -1).asDiagonal();
+  Eigen::Matrix3d R;
+  bool degenerate = true;
+  detail::proper_rotation<double, 3>(H, 1e-12, R, degenerate);
+  CHECK(difference(R, Eigen::Matrix3d::Identity()) < 1e-14);
+  CHECK(!degenerate);
+  // A rotated version of the same problem.
+  Rng rng(4);
+  const Eigen::Matrix3d Q = random_rotation(3, 0.7, rng);
+  detail::proper_rotation<double, 3>((H * Q.transpose()).eval(), 1e-12, R, degenerate);
+  // maximise tr(R H Q^T) -> R = Q.
+  CHECK(difference(R, Q) < 1e-12);
+  CHECK(R.determinant() == doctest::Approx(1.0));
+}
+
+TEST_CASE_TEMPLATE("degenerate geometry: finite output, no NaN, flag set", S, float, double) {
+  Eigen::MatrixXd identical = Eigen::MatrixXd::Constant(3, 10, 0.25);
+  Eigen::MatrixXd collinear(3, 10), coplanar(3, 40);
+  for (Index j = 0; j < 10; ++j) collinear.col(j) = Eigen::Vector3d(0.1, 0.2, 0.3) * static_cast<double>(j);
+  const Eigen::MatrixXd plane = random_points(2, 40, 8);
+  coplanar.topRows(2) = plane;
+  coplanar.row(2).setConstant(0.5);
+  for (const Eigen::MatrixXd* cloud : {&identical, &collinear, &coplanar}) {
+    const Eigen::MatrixXd shifted = cloud->colwise() + Eigen::Vector3d(0.01, -0.02, 0.005);
+    const ReferenceCloud<S, 3> ref(cloud->template cast<S>());
+    auto check = [&](const auto& r, bool expect_degenerate) {
+      CHECK(r.T_model_test.R.allFinite());
+      CHECK(r.T_model_test.t.allFinite());
+      CHECK(std::isfinite(r.error));
+      CHECK(std::isfinite(r.rmse));
+      CHECK(r.degenerate == expect_degenerate);
+      CHECK(std::abs(r.T_model_test.R.template cast<double>().determinant() - 1.0) < eps<S>(1000));
+    };
+    check(Icp<S, 3, FullRigid>().align(ref, shifted.template cast<S>()), true);
+    check(Icp<S, 3, SpatialRigid>().align(ref, shifted.template cast<S>()), true);
+    // A translation is always determined: not degenerate, and exact here.
+    const auto tr = Icp<S, 3, Translation>().align(ref, shifted.template cast<S>());
+    check(tr, false);
+    CHECK(difference(tr.T_model_test.t, Eigen::Vector3d(-0.01, 0.02, -0.005)) < eps<S>(100));
+  }
+  // Collinear in the plane is degenerate for the planar model too.
+  Eigen::MatrixXd line2(2, 6);
+  for (Index j = 0; j < 6; ++j) line2.col(j) = Eigen::Vector2d(1.0, 2.0) * static_cast<double>(j);
+  const auto pr = Icp<S, 2, Planar>().align(ReferenceCloud<S, 2>(line2.template cast<S>()), line2.template cast<S>());
+  CHECK(pr.degenerate);
+  CHECK(pr.T_model_test.R.allFinite());
+  // 4-D iCLAP points that all carry the same label: degenerate in 4-D.
+  Eigen::MatrixXd labeled(4, 30);
+  labeled.topRows(3) = random_points(3, 30, 9);
+  labeled.row(3).setConstant(7.0);
+  const auto lr = Icp<S, 4, FullRigid>().align(ReferenceCloud<S, 4>(labeled.template cast<S>()), labeled.template cast<S>());
+  CHECK(lr.degenerate);
+}
+
+TEST_CASE_TEMPLATE("clouds of one and two points, and a model smaller than the test", S, float, double) {
+  Eigen::MatrixXd one(3, 1);
+  one << 1.0, 2.0, 3.0;
+  const Eigen::MatrixXd one_test = one.colwise() - Eigen::Vector3d(0.1, 0.0, -0.2);
+  const auto r1 = Icp<S, 3, FullRigid>().align(ReferenceCloud<S, 3>(one.template cast<S>()), one_test.template cast<S>());
+  CHECK(r1.converged);
+  CHECK(r1.degenerate);
+  CHECK(r1.pairs == 1);
+  CHECK(r1.error < eps<S>(100));
+  CHECK(difference(r1.T_model_test * one_test.template cast<S>(), one) < eps<S>(100) * 4);
+
+  Eigen::MatrixXd two(3, 2);
+  two << 0.0, 1.0, 0.0, 0.0, 0.0, 0.0;
+  const auto r2 = Icp<S, 3, FullRigid>().align(ReferenceCloud<S, 3>(two.template cast<S>()), (two.colwise() + Eigen::Vector3d(0.1, 0.1, 0)).template cast<S>());
+  CHECK(r2.degenerate);
+  CHECK(r2.T_model_test.R.allFinite());
+  CHECK(r2.error < eps<S>(100));
+
+  // 3 model points, 50 test points: many test points share a partner.
+  const Eigen::MatrixXd small_model = random_points(3, 3, 12);
+  const Eigen::MatrixXd big_test = random_points(3, 50, 13);
+  const auto r3 = Icp<S, 3, FullRigid>().align(ReferenceCloud<S, 3>(small_model.template cast<S>()), big_test.template cast<S>());
+  CHECK(r3.pairs == 50);
+  CHECK(r3.T_model_test.R.allFinite());
+  CHECK(std::isfinite(r3.error));
+  CHECK(std::abs(r3.T_model_test.R.template cast<double>().determinant() - 1.0) < eps<S>(1000));
+}

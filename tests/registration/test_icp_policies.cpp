@@ -1,0 +1,297 @@
+// SPDX-License-Identifier: MIT
+// Input validation, rejection, termination, initial transforms, weights and
+// the meaning of the reported error.
+
+#include <string>
+
+#include "icp_test_util.hpp"
+
+using namespace iclap;
+using namespace iclap::test;
+
+namespace {
+
+/// The error E recomputed from scratch: every transformed test point against
+/// every model point, weighted.
+double brute_error(const Eigen::MatrixXd& model, const Eigen::MatrixXd& test, const Eigen::MatrixXd& R,
+                   const Eigen::VectorXd& t, const Eigen::VectorXd& w) {
+  double e = 0;
+  for (Index i = 0; i < test.cols(); ++i) {
+    const Eigen::VectorXd y = R * test.col(i) + t;
+    double best = std::numeric_limits<double>::infinity();
+    for (Index j = 0; j < model.cols(); ++j) best = std::min(best, (w.cwiseProduct(y - model.col(j))).squaredNorm());
+    e += best;
+  }
+  return e;
+}
+
+template <typename F>
+std::string argument_of(F&& f) {
+  try {
+    f();
+  } catch (const InvalidArgument& e) {
+    return e.argument();
+  }
+  return "(no exception)";
+}
+
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+const double kInf = std::numeric_limits<double>::infinity();
+using Ref3 = ReferenceCloud<double, 3>;
+
+}  // namespace
+
+TEST_CASE("NaN or Inf anywhere, empty clouds and mismatched dimensions are typed errors naming the argument") {
+  const Eigen::MatrixXd model = random_points(3, 20, 1);
+  const ReferenceCloud<double, 3> ref(model);
+  const Icp<double, 3> icp;
+
+  Eigen::MatrixXd bad = model;
+  bad(1, 2) = kNaN;
+  try {
+    (void)icp.align(ref, bad);
+    FAIL("expected NonFiniteValue");
+  } catch (const NonFiniteValue& e) {
+    CHECK(e.argument() == "test");
+    CHECK(e.row() == 1);
+    CHECK(e.column() == 2);
+  }
+  bad(1, 2) = kInf;
+  CHECK_THROWS_AS((void)icp.align(ref, bad), NonFiniteValue);
+  CHECK(argument_of([&] { ReferenceCloud<double, 3> r(bad); }) == "points");
+  CHECK_THROWS_AS((void)Ref3(bad), NonFiniteValue);
+
+  CHECK(argument_of([&] { (void)icp.align(ref, Eigen::MatrixXd(3, 0)); }) == "test");
+  CHECK_THROWS_AS((void)icp.align(ref, Eigen::MatrixXd(3, 0)), EmptyInput);
+  CHECK_THROWS_AS((void)Ref3(Eigen::MatrixXd(3, 0)), EmptyInput);
+  CHECK(argument_of([&] { (void)icp.align(ReferenceCloud<double, 3>(), model); }) == "reference");
+
+  CHECK_THROWS_AS((void)icp.align(ref, Eigen::MatrixXd::Zero(4, 5)), DimensionMismatch);
+  CHECK(argument_of([&] { (void)icp.align(ref, Eigen::MatrixXd::Zero(4, 5)); }) == "test");
+  CHECK(argument_of([&] { ReferenceCloud<double, 3> r(Eigen::MatrixXd::Zero(4, 5)); }) == "points");
+  const ReferenceCloud<double, Eigen::Dynamic> dref(model);
+  CHECK(argument_of([&] { (void)Icp<double, Eigen::Dynamic>().align(dref, Eigen::MatrixXd::Zero(2, 5)); }) == "test");
+  CHECK(argument_of([&] { ReferenceCloud<double, 3> r(model, Eigen::VectorXd::Ones(2)); }) == "weights");
+  CHECK(argument_of([&] { ReferenceCloud<double, 3> r(model, Eigen::Vector3d(1, kNaN, 1)); }) == "weights");
+  CHECK(argument_of([&] { ReferenceCloud<double, 3> r(model, Eigen::Vector3d(1, 0, 1)); }) == "weights");
+  CHECK(argument_of([&] { ReferenceCloud<double, 3> r(model, Eigen::Vector3d(1, -2, 1)); }) == "weights");
+
+  RigidTransform<double, 3> init = RigidTransform<double, 3>::identity();
+  init.R(0, 1) = kNaN;
+  CHECK(argument_of([&] { (void)icp.align(ref, model, init); }) == "initial.R");
+  init = RigidTransform<double, 3>::identity();
+  init.t(2) = kInf;
+  CHECK(argument_of([&] { (void)icp.align(ref, model, init); }) == "initial.t");
+  const RigidTransform<double, Eigen::Dynamic> wrong = RigidTransform<double, Eigen::Dynamic>::identity(4);
+  CHECK(argument_of([&] { (void)Icp<double, Eigen::Dynamic>().align(dref, model, wrong); }) == "initial.R rows");
+
+  // A model that needs more coordinates than a run-time cloud has.
+  const ReferenceCloud<double, Eigen::Dynamic> flat(random_points(2, 10, 2));
+  CHECK(argument_of([&] { (void)Icp<double, Eigen::Dynamic, SpatialRigid>().align(flat, random_points(2, 10, 3)); }) == "test");
+  const ReferenceCloud<double, Eigen::Dynamic> line(random_points(1, 10, 2));
+  CHECK(argument_of([&] { (void)Icp<double, Eigen::Dynamic, Planar>().align(line, random_points(1, 10, 3)); }) == "test");
+}
+
+TEST_CASE("invalid settings are errors naming the setting") {
+  const Eigen::MatrixXd model = random_points(3, 20, 1);
+  const ReferenceCloud<double, 3> ref(model);
+  Icp<double, 3> icp;
+  icp.termination.max_iterations = -1;
+  CHECK(argument_of([&] { (void)icp.align(ref, model); }) == "termination.max_iterations");
+  icp = {};
+  icp.termination.relative_tolerance = -0.1;
+  CHECK(argument_of([&] { (void)icp.align(ref, model); }) == "termination.relative_tolerance");
+  icp = {};
+  icp.termination.absolute_tolerance = kNaN;
+  CHECK(argument_of([&] { (void)icp.align(ref, model); }) == "termination.absolute_tolerance");
+  icp = {};
+  icp.rejection.trim_fraction = 0;
+  CHECK(argument_of([&] { (void)icp.align(ref, model); }) == "rejection.trim_fraction");
+  icp = {};
+  icp.rejection.trim_fraction = 1.5;
+  CHECK(argument_of([&] { (void)icp.align(ref, model); }) == "rejection.trim_fraction");
+  icp = {};
+  icp.rejection.max_distance = 0;
+  CHECK(argument_of([&] { (void)icp.align(ref, model); }) == "rejection.max_distance");
+}
+
+TEST_CASE("the reported error is E at the returned transform, recomputed by brute force") {
+  const Eigen::MatrixXd model = random_points(4, 150, 21);
+  Eigen::VectorXd t;
+  const Eigen::MatrixXd R = random_motion<FullRigid>(4, 0.3, 0.3, 22, t);
+  const Eigen::MatrixXd test = (R * random_points(4, 40, 23)).colwise() + t;  // not an exact subset
+  const Eigen::Vector4d w(1.0, 2.0, 0.5, 3.0);
+  for (int iterations : {0, 1, 5, 50}) {
+    Icp<double, 4> icp;
+    icp.termination.max_iterations = iterations;
+    const auto r = icp.align(ReferenceCloud<double, 4>(model, w), test);
+    // The transform of a weighted run is W^-1 R_w W: its error must be
+    // measured with the same weights.
+    const double expected = brute_error(model, test, r.T_model_test.R, r.T_model_test.t, w);
+    CAPTURE(iterations);
+    CHECK(r.error == doctest::Approx(expected).epsilon(1e-12));
+    CHECK(r.rmse == doctest::Approx(std::sqrt(expected / 40.0)).epsilon(1e-12));
+    CHECK(r.pairs == 40);
+  }
+}
+
+TEST_CASE("weights: a weighted registration is the unweighted one of scaled clouds") {
+  const Eigen::MatrixXd model = random_points(4, 120, 31);
+  Eigen::VectorXd t;
+  const Eigen::MatrixXd R = random_motion<SpatialRigid>(4, 0.1, 0.05, 32, t);
+  const Eigen::MatrixXd test = (R.transpose() * (model.colwise() - t));
+  const Eigen::Vector4d w(2.0, 2.0, 2.0, 0.25);
+  Icp<double, 4, SpatialRigid> icp;
+  const auto weighted = icp.align(ReferenceCloud<double, 4>(model, w), test);
+  const auto scaled = icp.align(ReferenceCloud<double, 4>(w.asDiagonal() * model), (w.asDiagonal() * test).eval());
+  CHECK(weighted.error == doctest::Approx(scaled.error).epsilon(1e-9));
+  CHECK(weighted.iterations == scaled.iterations);
+  // Uniform weights over the moved block: the rotation is the same, the
+  // translation is measured in the scaled units.
+  CHECK(difference(weighted.T_model_test.R, scaled.T_model_test.R) < 1e-12);
+  CHECK(difference(w.asDiagonal() * weighted.T_model_test.t, scaled.T_model_test.t) < 1e-12);
+  CHECK(difference(weighted.T_model_test.R, R) < 1e-12);
+}
+
+TEST_CASE("weights steer the matching: a heavy label axis pairs points of the same label") {
+  // Two interleaved rows of points with labels 0 and 1, 1 cm apart in y.
+  // The test is shifted by 0.6 cm in y: by position alone each test point is
+  // closer to the other label's row.
+  const Index n = 10;
+  Eigen::MatrixXd model(4, 2 * n);
+  for (Index i = 0; i < n; ++i) {
+    model.col(i) << 0.01 * static_cast<double>(i), 0.0, 0.0, 0.0;
+    model.col(n + i) << 0.01 * static_cast<double>(i), 0.01, 0.0, 1.0;
+  }
+  Eigen::MatrixXd test = model;
+  test.row(1).array() += 0.006;
+  Icp<double, 4, Translation> icp;
+  icp.termination.max_iterations = 0;  // judge only the first matching
+  const auto light = icp.align(ReferenceCloud<double, 4>(model, Eigen::Vector4d(1, 1, 1, 1e-4)), test);
+  const auto heavy = icp.align(ReferenceCloud<double, 4>(model, Eigen::Vector4d(1, 1, 1, 1.0)), test);
+  // Light label: the shifted 0-row pairs with the 1-row 4 mm away (plus a
+  // tiny label term); heavy label: every point pairs with its own label, 6 mm away.
+  const double nd = static_cast<double>(n);
+  CHECK(light.error == doctest::Approx(nd * (0.004 * 0.004 + 1e-8) + nd * 0.006 * 0.006));
+  CHECK(heavy.error == doctest::Approx(2 * nd * 0.006 * 0.006));
+  // ... and with a free translation, the heavy label recovers the true shift.
+  icp.termination.max_iterations = 10;
+  const auto fit = icp.align(ReferenceCloud<double, 4>(model, Eigen::Vector4d(1, 1, 1, 1.0)), test);
+  CHECK(fit.T_model_test.t(1) == doctest::Approx(-0.006));
+}
+
+TEST_CASE("rejection: maximum distance and trimming remove outliers") {
+  const Eigen::MatrixXd model = random_points(3, 300, 41);
+  Eigen::VectorXd t;
+  const Eigen::MatrixXd R = random_motion<SpatialRigid>(3, 0.05, 0.03, 42, t);
+  Eigen::MatrixXd test = R.transpose() * (model.leftCols(100).colwise() - t);
+  // 10 gross outliers.
+  test.rightCols(10) = random_points(3, 10, 43, 1.0, 5.0);
+  Icp<double, 3, SpatialRigid> plain;
+  const auto biased = plain.align(ReferenceCloud<double, 3>(model), test);
+  CHECK(difference(biased.T_model_test.R, R) > 1e-3);
+
+  Icp<double, 3, SpatialRigid> gated;
+  gated.rejection.max_distance = 0.5;
+  const auto g = gated.align(ReferenceCloud<double, 3>(model), test);
+  CHECK(g.pairs == 90);
+  CHECK(difference(g.T_model_test.R, R) < 1e-10);
+
+  Icp<double, 3, SpatialRigid> trimmed;
+  trimmed.rejection.trim_fraction = 0.85;
+  const auto tr = trimmed.align(ReferenceCloud<double, 3>(model), test);
+  CHECK(tr.pairs == 85);
+  CHECK(difference(tr.T_model_test.R, R) < 1e-10);
+
+  // The count is rounded up: 0.7 * 10 is 7 pairs, not 8.
+  DistanceRejector<double> rej;
+  rej.trim_fraction = 0.7;
+  std::vector<Correspondence<double>> pairs(10);
+  for (Index i = 0; i < 10; ++i) pairs[static_cast<std::size_t>(i)] = {i, 0, static_cast<double>(10 - i)};
+  CHECK(rej.select(pairs.data(), 10) == 7);
+  for (Index k = 0; k < 7; ++k) CHECK(pairs[static_cast<std::size_t>(k)].squared_distance <= 7.0);
+}
+
+TEST_CASE("no correspondence left is a normal outcome, not an error") {
+  const Eigen::MatrixXd model = random_points(3, 50, 51);
+  const Eigen::MatrixXd far = model.array() + 100.0;
+  Icp<double, 3> icp;
+  icp.rejection.max_distance = 1.0;
+  const auto r = icp.align(ReferenceCloud<double, 3>(model), far);
+  CHECK(!r.converged);
+  CHECK(r.stop_reason == StopReason::NoCorrespondences);
+  CHECK(r.pairs == 0);
+  CHECK(r.error == std::numeric_limits<double>::infinity());
+  CHECK(r.T_model_test.R == Eigen::Matrix3d::Identity());
+  CHECK(r.T_model_test.t == Eigen::Vector3d::Zero());
+  CHECK(std::string(to_string(r.stop_reason)) == "no_correspondences");
+}
+
+TEST_CASE("termination: the paper's three rules") {
+  const Eigen::MatrixXd model = random_points(3, 200, 61);
+  Eigen::VectorXd t;
+  const Eigen::MatrixXd R = random_motion<FullRigid>(3, 0.3, 0.2, 62, t);
+  const Eigen::MatrixXd test = R.transpose() * ((model.leftCols(150) + 0.01 * random_points(3, 150, 63)).colwise() - t);
+  const ReferenceCloud<double, 3> ref(model);
+
+  Icp<double, 3> forced;
+  forced.termination.max_iterations = 50;
+  forced.termination.absolute_tolerance = -1;
+  forced.termination.relative_tolerance = 0;
+  const auto f = forced.align(ref, test);
+  CHECK(f.iterations == 50);
+  CHECK(f.stop_reason == StopReason::MaxIterations);
+  CHECK(!f.converged);
+
+  Icp<double, 3> none;
+  none.termination.max_iterations = 0;
+  const auto z = none.align(ref, test);
+  CHECK(z.iterations == 0);
+  CHECK(z.T_model_test.R == Eigen::Matrix3d::Identity());
+  CHECK(z.error == doctest::Approx(brute_error(model, test, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones())));
+
+  Icp<double, 3> loose;
+  loose.termination.relative_tolerance = 0.5;
+  const auto l = loose.align(ref, test);
+  CHECK(l.stop_reason == StopReason::RelativeTolerance);
+  CHECK(l.converged);
+  CHECK(l.iterations < f.iterations);
+
+  Icp<double, 3> absolute;
+  absolute.termination.absolute_tolerance = 1.0;  // E of the start is below this
+  absolute.termination.relative_tolerance = 0;
+  const auto a = absolute.align(ref, test);
+  CHECK(a.stop_reason == StopReason::AbsoluteTolerance);
+  CHECK(a.error <= 1.0);
+}
+
+TEST_CASE("initial transform and centroid alignment") {
+  const Eigen::MatrixXd model = random_points(3, 200, 71);
+  Eigen::VectorXd t;
+  const Eigen::MatrixXd R = random_motion<FullRigid>(3, 0.05, 0.0, 72, t);
+  const Eigen::Vector3d far_shift(4.0, -3.0, 2.0);  // far outside the basin
+  const Eigen::MatrixXd test = R.transpose() * (model.colwise() - far_shift);
+  const ReferenceCloud<double, 3> ref(model);
+
+  Icp<double, 3> aligned;
+  aligned.centroid_alignment = true;
+  const auto found = aligned.align(ref, test);
+  CHECK(difference(found.T_model_test.R, R) < 1e-10);
+  CHECK(difference(found.T_model_test.t, far_shift) < 1e-10);
+
+  RigidTransform<double, 3> guess{Eigen::Matrix3d::Identity(), far_shift};
+  const auto guided = Icp<double, 3>().align(ref, test, guess);
+  CHECK(difference(guided.T_model_test.R, R) < 1e-10);
+  CHECK(difference(guided.T_model_test.t, far_shift) < 1e-10);
+
+  // The exact answer as the guess: nothing to do.
+  RigidTransform<double, 3> exact{R, far_shift};
+  const auto done = Icp<double, 3>().align(ref, test, exact);
+  CHECK(done.error < 1e-20);
+  CHECK(done.iterations <= 3);  // rounding-level updates until E stops changing
+
+  // A planar refinement keeps the out-of-plane part of the guess.
+  RigidTransform<double, 3> lifted{Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0, 0.5)};
+  const auto planar = Icp<double, 3, Planar>().align(ref, model, lifted);
+  CHECK(planar.T_model_test.t(2) == doctest::Approx(0.5));
+}
