@@ -41,6 +41,22 @@ std::vector<WtsMessage> parse_all(const Bytes& bytes, WtsStreamParser::Settings 
 
 void append(Bytes& to, const Bytes& from) { to.insert(to.end(), from.begin(), from.end()); }
 
+void check_same_stats(const ParserStats& a, const ParserStats& b) {
+  CHECK(a.bytes_in == b.bytes_in);
+  CHECK(a.packets == b.packets);
+  CHECK(a.packet_bytes == b.packet_bytes);
+  CHECK(a.junk_bytes == b.junk_bytes);
+  CHECK(a.crc_errors == b.crc_errors);
+  CHECK(a.oversize == b.oversize);
+  CHECK(a.truncated == b.truncated);
+  CHECK(a.frames == b.frames);
+  CHECK(a.replies == b.replies);
+  CHECK(a.frames_wrong_shape == b.frames_wrong_shape);
+  CHECK(a.frames_without_grid == b.frames_without_grid);
+  CHECK(a.frames_out_of_range == b.frames_out_of_range);
+  CHECK(a.malformed == b.malformed);
+}
+
 // Feeds `bytes` in random chunks of 1..max_chunk, collecting messages.
 std::vector<WtsMessage> feed_chunked(WtsStreamParser& p, const Bytes& bytes, Rng& rng, std::size_t max_chunk) {
   std::vector<WtsMessage> out;
@@ -211,6 +227,22 @@ TEST_CASE("Parser: a corrupted size field does not hold back later packets") {
   CHECK(p.stats().junk_bytes == 8);
 }
 
+TEST_CASE("Parser: a packet nested in a valid packet's payload wins (chunking-independent rule)") {
+  // Documented trade-off: a candidate inside which a complete valid packet
+  // starts is dropped, so the result does not depend on chunking. A loop
+  // echo that carries a whole packet therefore yields the inner packet.
+  const Bytes inner = encode_reply(Reply{wts_id::kTare, 0, {}});
+  const Bytes outer = encode_loop(Bytes(inner.begin(), inner.end()));
+  for (std::size_t chunk : {std::size_t{1}, outer.size()}) {
+    WtsStreamParser p;
+    Rng rng(6);
+    const auto got = feed_chunked(p, outer, rng, chunk);
+    REQUIRE(got.size() == 1);
+    CHECK(std::get<Reply>(got[0]).id == wts_id::kTare);
+    CHECK(p.stats().truncated == 1);
+  }
+}
+
 TEST_CASE("Parser: finish() drops an incomplete tail and a later feed starts afresh") {
   Rng rng(5);
   WtsStreamParser p(WtsStreamParser::Settings{1024, kWts, 4095});
@@ -288,6 +320,13 @@ TEST_CASE("Parser property: junk, truncated packets and single-bit flips lose on
     s.grid = grid;
     WtsStreamParser p(s);
     const auto got = feed_chunked(p, stream, rng, 1 + rng.below(100));
+    WtsStreamParser whole(s);
+    whole.feed(stream);
+    whole.finish();
+    std::size_t whole_count = 0;
+    while (whole.next()) ++whole_count;
+    CHECK(whole_count == got.size());
+    check_same_stats(whole.stats(), p.stats());  // decisions never depend on chunking
     REQUIRE(got.size() == expected.size());
     for (std::size_t k = 0; k < got.size(); ++k) CHECK(same(got[k], expected[k]));
     const auto st = p.stats();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -28,24 +29,34 @@ struct FramerStats {
   std::uint64_t junk_bytes = 0;    ///< bytes dropped outside any valid packet
   std::uint64_t crc_errors = 0;    ///< complete candidates whose CRC did not match
   std::uint64_t oversize = 0;      ///< headers announcing more than max_payload bytes
-  std::uint64_t truncated = 0;     ///< candidates abandoned before they were complete
+  std::uint64_t truncated = 0;     ///< candidates cut short by a packet inside them, or by the end of the stream
 };
 
 /// Splits a byte stream into WTS packets (see README, "Rig tools").
 ///
 /// Bytes may arrive in any chunking. The framer looks for the preamble
 /// AA AA AA, reads id and size, and returns the packet once its CRC checks.
-/// It resynchronises on its own: a candidate with a bad CRC, or a header
-/// announcing more than `max_payload` bytes, is dropped one byte at a time,
-/// so a real packet that starts inside it is still found. A candidate that
-/// is still incomplete is abandoned (counted in `truncated`) as soon as a
-/// complete, CRC-valid packet starts after its preamble, so a corrupted size
-/// field delays the stream by at most one packet instead of swallowing up to
-/// 64 kB; `finish()` abandons whatever is incomplete at the end of a stream
-/// (e.g. an unplug) and returns the complete packets buffered behind it.
+/// It resynchronises on its own, dropping a bad candidate one byte at a
+/// time so that a real packet starting inside it is still found:
+/// - a header announcing more than `max_payload` bytes is dropped at once
+///   (`oversize`), so junk cannot make the framer wait for 64 kB;
+/// - a candidate inside whose announced extent a complete, CRC-valid packet
+///   starts is dropped (`truncated`): it was cut short, e.g. by an unplug
+///   or a lost byte, or its size field is corrupted. This is decided as soon
+///   as that inner packet is complete, so a corrupted size field delays the
+///   stream by one packet at most;
+/// - a complete candidate with a bad CRC is dropped (`crc_errors`);
+/// - finish() drops an incomplete candidate at the end of a stream.
+/// Every decision depends only on the bytes, never on how they were
+/// chunked: feeding a stream at once or byte by byte yields the same packets
+/// and the same counters (tests and the fuzzer check this). The price: a
+/// valid packet that carries a complete valid packet in its payload (a loop
+/// echo of a packet) yields the inner packet only. WTS frames cannot do
+/// this by accident: 12-bit taxels never contain AA AA.
 ///
 /// Memory: the buffer holds at most one incomplete candidate plus the bytes
-/// fed since (O(max_payload + chunk)). Not thread-safe.
+/// fed since (O(max_payload + chunk)). Time: O(bytes) per returned packet
+/// plus a CRC per preamble seen inside a candidate. Not thread-safe.
 class PacketFramer {
  public:
   /// Default bound on the payload size: 1024 bytes holds a frame of up to
@@ -82,19 +93,31 @@ class PacketFramer {
         if (finished_) drop(end - begin_);
         return std::nullopt;
       }
-      switch (check(begin_, end)) {
-        case Candidate::kValid: return take();
-        case Candidate::kBad:
-          drop(1);
-          continue;
-        case Candidate::kIncomplete:
-          if (finished_ || later_valid_packet()) {
-            ++stats_.truncated;
-            drop(1);
-            continue;
-          }
-          return std::nullopt;
+      const std::size_t size = get_u16(&buffer_[begin_ + 4]);
+      if (size > max_payload_) {
+        ++stats_.oversize;
+        drop(1);
+        continue;
       }
+      const std::size_t total = kWtsHeaderSize + size + kWtsCrcSize;
+      const std::size_t limit = std::min(end, begin_ + total);
+      if (valid_packet_inside(begin_, limit)) {
+        ++stats_.truncated;
+        drop(1);
+        continue;
+      }
+      if (limit - begin_ < total) {  // incomplete
+        if (!finished_) return std::nullopt;
+        ++stats_.truncated;
+        drop(1);
+        continue;
+      }
+      if (!crc_ok(begin_, total)) {
+        ++stats_.crc_errors;
+        drop(1);
+        continue;
+      }
+      return take(total);
     }
   }
 
@@ -111,8 +134,6 @@ class PacketFramer {
   }
 
  private:
-  enum class Candidate { kValid, kBad, kIncomplete };
-
   // First position in [from, end) where a preamble starts, or, when there
   // is none, the first position of a trailing partial preamble (or end).
   std::size_t find_preamble(std::size_t from, std::size_t end) const noexcept {
@@ -124,40 +145,25 @@ class PacketFramer {
     return end - run;
   }
 
-  // Classifies the candidate whose preamble starts at `pos`, counting
-  // oversize headers and CRC errors when `count`.
-  Candidate check(std::size_t pos, std::size_t end, bool count = true) {
-    if (end - pos < kWtsHeaderSize) return Candidate::kIncomplete;
-    const std::size_t size = get_u16(&buffer_[pos + 4]);
-    if (size > max_payload_) {
-      if (count) ++stats_.oversize;
-      return Candidate::kBad;
-    }
-    const std::size_t total = kWtsHeaderSize + size + kWtsCrcSize;
-    if (end - pos < total) return Candidate::kIncomplete;
-    const std::uint16_t crc = wts_crc16(&buffer_[pos], total - kWtsCrcSize);
-    if (crc != get_u16(&buffer_[pos + total - kWtsCrcSize])) {
-      if (count) ++stats_.crc_errors;
-      return Candidate::kBad;
-    }
-    return Candidate::kValid;
+  bool crc_ok(std::size_t pos, std::size_t total) const noexcept {
+    return wts_crc16(&buffer_[pos], total - kWtsCrcSize) == get_u16(&buffer_[pos + total - kWtsCrcSize]);
   }
 
-  // Whether a complete, valid packet starts after the current candidate's
-  // first byte (then the candidate cannot be a real packet in progress).
-  bool later_valid_packet() {
-    const std::size_t end = buffer_.size();
-    for (std::size_t pos = begin_ + 1; pos + kWtsHeaderSize <= end; ++pos) {
-      pos = find_preamble(pos, end);
-      if (pos + kWtsHeaderSize > end) return false;
-      if (check(pos, end, false) == Candidate::kValid) return true;
+  // Whether a complete packet within the bound and with a valid CRC starts
+  // in (pos, limit) and ends at or before `limit`.
+  bool valid_packet_inside(std::size_t pos, std::size_t limit) const noexcept {
+    for (std::size_t p = pos + 1; p + kWtsHeaderSize + kWtsCrcSize <= limit; ++p) {
+      p = find_preamble(p, limit);
+      if (p + kWtsHeaderSize + kWtsCrcSize > limit) return false;
+      const std::size_t size = get_u16(&buffer_[p + 4]);
+      const std::size_t total = kWtsHeaderSize + size + kWtsCrcSize;
+      if (size <= max_payload_ && total <= limit - p && crc_ok(p, total)) return true;
     }
     return false;
   }
 
-  RawPacket take() {
-    const std::size_t size = get_u16(&buffer_[begin_ + 4]);
-    const std::size_t total = kWtsHeaderSize + size + kWtsCrcSize;
+  RawPacket take(std::size_t total) {
+    const std::size_t size = total - kWtsHeaderSize - kWtsCrcSize;
     RawPacket packet;
     packet.id = buffer_[begin_ + 3];
     const auto first = buffer_.begin() + static_cast<std::ptrdiff_t>(begin_ + kWtsHeaderSize);
