@@ -7,3 +7,4 @@
 #include "iclap/core/random.hpp"
 #include "iclap/core/version.hpp"
 #include "iclap/registration/registration.hpp"
+#include "iclap/tactile/tactile.hpp"

@@ -1,0 +1,120 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <istream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "iclap/core/error.hpp"
+
+namespace iclap {
+
+/// Reads a plain point file: one point per line, numbers separated by
+/// whitespace and/or commas; an optional header line (a first line that is
+/// not all numbers); empty lines and lines starting with '#' are skipped;
+/// CRLF line endings and a UTF-8 byte-order mark are accepted. The dimension
+/// is the number of columns, the same on every line.
+///
+/// Returns the points one per column (dim x n, double). Throws ParseError
+/// ("FILE:LINE: reason") for a malformed number, NaN or infinity, a wrong
+/// column count or a file without points; nothing partial is returned.
+inline Eigen::MatrixXd read_point_file(std::istream& in, const std::string& name) {
+  std::vector<double> values;
+  std::size_t dim = 0, count = 0, line_no = 0;
+  bool seen_content = false;
+  std::string line;
+  std::vector<std::string> tokens;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line_no == 1 && line.size() >= 3 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const auto first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line[first] == '#') continue;
+    tokens.clear();
+    std::string cur;
+    bool after_comma = false;  // a comma seen since the last value
+    for (char ch : line) {
+      const bool comma = ch == ',';
+      if (comma || std::isspace(static_cast<unsigned char>(ch))) {
+        if (!cur.empty()) {
+          tokens.push_back(cur);
+          cur.clear();
+          after_comma = false;
+        }
+        if (comma) {
+          if (after_comma || tokens.empty()) throw ParseError(name, line_no, "empty value before a comma");
+          after_comma = true;
+        }
+      } else {
+        cur += ch;
+      }
+    }
+    if (!cur.empty()) {
+      tokens.push_back(cur);
+      after_comma = false;
+    }
+    if (after_comma) throw ParseError(name, line_no, "empty value after the last comma");
+    if (tokens.empty()) continue;
+
+    const bool first_content = !seen_content;
+    seen_content = true;
+    std::vector<double> row;
+    row.reserve(tokens.size());
+    std::string bad_token;
+    std::size_t bad_column = 0;
+    for (std::size_t k = 0; k < tokens.size(); ++k) {
+      const std::string& tok = tokens[k];
+      const char* begin = tok.c_str();
+      const char* end = begin + tok.size();
+      if (*begin == '+') ++begin;
+      double v = 0;
+      const auto res = std::from_chars(begin, end, v);
+      if (res.ec != std::errc() || res.ptr != end) {
+        bad_token = tok;
+        bad_column = k + 1;
+        break;
+      }
+      row.push_back(v);
+    }
+    if (!bad_token.empty()) {
+      if (first_content) continue;  // the optional header line
+      throw ParseError(name, line_no, "'" + bad_token + "' in column " + std::to_string(bad_column) + " is not a number");
+    }
+    for (std::size_t k = 0; k < row.size(); ++k)
+      if (!std::isfinite(row[k]))
+        throw ParseError(name, line_no, "non-finite value '" + tokens[k] + "' in column " + std::to_string(k + 1));
+    if (dim == 0) {
+      dim = row.size();
+    } else if (row.size() != dim) {
+      throw ParseError(name, line_no,
+                       std::to_string(row.size()) + " values, expected " + std::to_string(dim) +
+                           " (the dimension set by the first point)");
+    }
+    values.insert(values.end(), row.begin(), row.end());
+    ++count;
+  }
+  if (in.bad()) throw IoError(name, "read error");
+  if (count == 0) throw ParseError(name, line_no, "no points in the file");
+  Eigen::MatrixXd points(static_cast<Eigen::Index>(dim), static_cast<Eigen::Index>(count));
+  for (std::size_t j = 0; j < count; ++j)
+    for (std::size_t i = 0; i < dim; ++i)
+      points(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = values[j * dim + i];
+  return points;
+}
+
+/// Same, from a file path (errors name the path).
+inline Eigen::MatrixXd read_point_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path, std::string("cannot open: ") + std::strerror(errno));
+  return read_point_file(in, path);
+}
+
+}  // namespace iclap

@@ -1,0 +1,23 @@
+# Installs iclap from BUILD_DIR into a fresh prefix, then configures, builds
+# and runs SOURCE_DIR/examples/consumer against it, as a user would.
+file(REMOVE_RECURSE ${WORK_DIR})
+set(_prefix ${WORK_DIR}/prefix)
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
+  endif()
+  set(last_output "${out}" PARENT_SCOPE)
+endfunction()
+run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${_prefix})
+if(NOT EXISTS ${_prefix}/share/cmake/iclap/iclap-config.cmake)
+  message(FATAL_ERROR "iclap-config.cmake was not installed")
+endif()
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/consumer -B ${WORK_DIR}/build
+    -DCMAKE_PREFIX_PATH=${_prefix} -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_BUILD_TYPE=Release)
+run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
+run(${WORK_DIR}/build/consumer)
+if(NOT last_output MATCHES "iclap [0-9]+\\.[0-9]+\\.[0-9]+ consumer: ok")
+  message(FATAL_ERROR "unexpected consumer output:\n${last_output}")
+endif()
+message(STATUS "${last_output}")

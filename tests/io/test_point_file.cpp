@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+#include <doctest/doctest.h>
+
+#include <sstream>
+#include <string>
+
+#include "iclap/io/point_file.hpp"
+
+using namespace iclap;
+
+namespace {
+Eigen::MatrixXd parse(const std::string& text) {
+  std::istringstream in(text);
+  return read_point_file(in, "pts.txt");
+}
+std::string error_of(const std::string& text) {
+  try {
+    parse(text);
+  } catch (const ParseError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+}  // namespace
+
+TEST_CASE("point files: separators, header, comments, CRLF and BOM") {
+  const auto p = parse("\xEF\xBB\xBFx, y, z\r\n# a comment\r\n1 2 3\r\n\r\n4,5,6\r\n  7\t8 ,9\r\n+1e-3 -2.5E2 .5\n");
+  REQUIRE(p.rows() == 3);
+  REQUIRE(p.cols() == 4);
+  CHECK(p(0, 0) == 1.0);
+  CHECK(p(2, 1) == 6.0);
+  CHECK(p(1, 2) == 8.0);
+  CHECK(p(0, 3) == 1e-3);
+  CHECK(p(1, 3) == -250.0);
+  CHECK(p(2, 3) == 0.5);
+  // Without a header, the first line is a point; any dimension works.
+  const auto q = parse("1 2 3 4 5\n6 7 8 9 10\n");
+  CHECK(q.rows() == 5);
+  CHECK(q.cols() == 2);
+  // Exact round trip of printed doubles.
+  CHECK(parse("0.1 0.30000000000000004\n")(1, 0) == 0.30000000000000004);
+}
+
+TEST_CASE("point files: every malformed case names the file and the line") {
+  CHECK(error_of("1 2 3\n4 x 6\n") == "pts.txt:2: 'x' in column 2 is not a number");
+  CHECK(error_of("1 2 3\n4 5\n") == "pts.txt:2: 2 values, expected 3 (the dimension set by the first point)");
+  CHECK(error_of("x y\n1 nan\n") == "pts.txt:2: non-finite value 'nan' in column 2");
+  CHECK(error_of("1 inf\n") == "pts.txt:1: non-finite value 'inf' in column 2");
+  CHECK(error_of("1,,2\n") == "pts.txt:1: empty value before a comma");
+  CHECK(error_of("1,2,\n") == "pts.txt:1: empty value after the last comma");
+  CHECK(error_of("# nothing\n\n") == "pts.txt:2: no points in the file");
+  CHECK(error_of("x y z\n") == "pts.txt:1: no points in the file");
+  CHECK(error_of("1 2\n3 4\n5 6 7e\n") == "pts.txt:3: '7e' in column 3 is not a number");
+  // Only the first line may be a header.
+  CHECK(error_of("a b\nc d\n") == "pts.txt:2: 'c' in column 1 is not a number");
+  CHECK_THROWS_AS(read_point_file("/nonexistent/points.txt"), IoError);
+}
