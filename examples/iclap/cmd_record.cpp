@@ -56,7 +56,7 @@ const std::string kUsage = std::string(
     "  --grid ROWSxCOLS    taxel grid, overriding the sensor's matrix info (which\n"
     "                      is read as rows = res_y, columns = res_x)\n"
     "  --pose SPEC         pad pose source (default fixed:0,0,0):\n") +
-    iclap::rig::pose_spec_help() +
+    iclap::rig::pose_spec_help("                        ") +
     "\n\n"
     "Exit status: 0 done, 1 failure (sensor silent, write failed), 2 bad input,\n"
     "3 the device was lost (the rows recorded so far are intact), 130 Ctrl-C\n"

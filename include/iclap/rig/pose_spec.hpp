@@ -28,12 +28,16 @@ inline constexpr bool kHaveOpenHaptics =
     false;
 #endif
 
-/// The accepted pose specs, for usage texts.
-inline const char* pose_spec_help() {
-  return "  fixed:X,Y,Z            the same position (metres) for every frame\n"
-         "  fixed:X,Y,Z,QW,QX,QY,QZ  ... with a unit quaternion orientation\n"
-         "  replay:FILE.csv        the poses of a dataset CSV, in file order; the run ends when they do\n"
-         "  omni[:DEVICE]          the Phantom Omni / Touch arm via OpenHaptics (if built with it)";
+/// The accepted pose specs, for usage texts, one per line, each line
+/// starting with `indent`.
+inline std::string pose_spec_help(const std::string& indent = "  ") {
+  std::string out;
+  for (const char* line : {"fixed:X,Y,Z              the same position (metres) for every frame",
+                           "fixed:X,Y,Z,QW,QX,QY,QZ  ... with a unit quaternion orientation",
+                           "replay:FILE.csv          the poses of a dataset CSV in file order; the run ends with them",
+                           "omni[:DEVICE]            the Phantom Omni / Touch arm via OpenHaptics (if built with it)"})
+    out += (out.empty() ? "" : "\n") + indent + line;
+  return out;
 }
 
 /// Parses a pose spec (see pose_spec_help()). Throws InvalidArgument naming
