@@ -1,0 +1,438 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+#include <exception>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "iclap/core/error.hpp"
+#include "iclap/core/progress.hpp"
+#include "iclap/core/random.hpp"
+#include "iclap/recognition/classifier.hpp"
+#include "iclap/recognition/fusion.hpp"
+#include "iclap/recognition/methods.hpp"
+#include "iclap/recognition/normalization.hpp"
+#include "iclap/recognition/recognizer.hpp"
+#include "iclap/recognition/touch_table.hpp"
+#include "iclap/tactile/kmeans.hpp"
+#include "iclap/tactile/quantizer.hpp"
+
+namespace iclap {
+
+/// Settings of the paper's experiment (Section VI): leave-one-exploration-out
+/// cross validation, recognition rate against the number of touches.
+struct CrossValidationSettings {
+  /// Numbers of touches per test, each >= 1 (paper: 1 to 20).
+  std::vector<int> touches = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20};
+  /// Random draws of the touches per (fold, object, number of touches).
+  int repeats = 10;
+  /// Draws per (inner fold, object, number of touches) for choosing fusion
+  /// weights on the training folds.
+  int weight_repeats = 2;
+  /// Weight grid resolution: weights are multiples of 1/weight_steps (0.1).
+  int weight_steps = 10;
+  /// Seed of every random draw (touch subsets; the codebook has its own).
+  std::uint64_t seed = 1;
+  Normalization normalization = Normalization::L2;
+  /// Worker threads; 0: all cores. Results do not depend on it.
+  int threads = 0;
+  /// Also evaluate every grid weight on the test folds (the paper's
+  /// rate-versus-weight figures); reporting only, never used to choose.
+  bool weight_sweeps = true;
+
+  void validate() const {
+    if (touches.empty()) throw EmptyInput("touches", "no number of touches to evaluate");
+    for (int t : touches)
+      if (t < 1) throw InvalidArgument("touches", "every number of touches must be >= 1, got " + std::to_string(t));
+    if (repeats < 1) throw InvalidArgument("repeats", "must be >= 1, got " + std::to_string(repeats));
+    if (weight_repeats < 1) throw InvalidArgument("weight_repeats", "must be >= 1, got " + std::to_string(weight_repeats));
+    if (weight_steps < 3) throw InvalidArgument("weight_steps", "must be >= 3, got " + std::to_string(weight_steps));
+    if (threads < 0) throw InvalidArgument("threads", "must be >= 0, got " + std::to_string(threads));
+  }
+};
+
+/// Recognition results of one method over all folds.
+struct MethodResult {
+  std::string name;
+  /// correct[t] / total[t]: tests recognised at touches[t], summed over folds.
+  std::vector<Index> correct, total;
+  /// fold_correct[f][t], fold_total[f][t]: the same per fold.
+  std::vector<std::vector<Index>> fold_correct, fold_total;
+  /// confusion[t](true object, recognised object), summed over folds.
+  std::vector<Eigen::MatrixXi> confusion;
+  /// Weights chosen on each fold's training data (empty unless fitted), in
+  /// the order of the method's weighted-sum terms.
+  std::vector<std::vector<double>> fold_weights;
+  /// The fusion of each fold, as text, e.g. "0.2*icp+0.2*bow+0.6*iclap".
+  std::vector<std::string> fold_expressions;
+
+  double rate(std::size_t t) const {
+    return total[t] ? static_cast<double>(correct[t]) / static_cast<double>(total[t]) : 0.0;
+  }
+};
+
+/// Rate against fusion weights on the test folds (reporting only).
+struct WeightSweep {
+  std::string method;
+  std::vector<std::string> terms;              ///< the weighted classifiers' expressions
+  std::vector<std::vector<double>> grid;       ///< grid[g]: one weight per term
+  std::vector<std::vector<Index>> correct;     ///< correct[g][t]
+  std::vector<Index> total;                    ///< total[t]
+};
+
+struct CrossValidationResult {
+  std::vector<std::string> objects;
+  std::vector<int> touches;
+  int folds = 0;
+  std::vector<MethodResult> methods;
+  std::vector<WeightSweep> sweeps;
+  /// Vocabulary size of each fold's codebook.
+  std::vector<Index> vocabulary;
+  /// Draws that asked for more touches than the held-out exploration had:
+  /// they use all of its touches.
+  std::size_t capped_draws = 0;
+  /// (object, exploration) pairs without any touch, so never tested.
+  std::size_t empty_explorations = 0;
+};
+
+/// Builds the classifiers of one training set; called once per fold and per
+/// inner fold, so every fold gets fresh references.
+using ClassifierFactory = std::function<std::vector<std::unique_ptr<Classifier>>()>;
+
+/// The paper's experiment as a reusable engine. Fold f holds out the f-th
+/// exploration (in id order) of every object; the number of folds is the
+/// smallest number of explorations of any object (>= 2). For each fold, the
+/// codebook (a copy of `quantizer` fitted on the training touches'
+/// features), the references and the fusion weights come from the training
+/// explorations only:
+///  - weights: each training exploration in turn is held out of the
+///    training set ("inner folds"); the grid weight vector with the highest
+///    rate over those inner tests wins (ties: larger mean margin between the
+///    true object's fused distance and the closest other one, then grid
+///    order). The chosen weights are reported per fold.
+///  - tests: `repeats` random subsets of each number of touches from the
+///    held-out exploration of every object, drawn with Rng::derive(seed,
+///    fold/object stream, touches/repeat substream), so the draws do not
+///    depend on threads or order.
+/// Every test set is registered once per classifier; all methods fuse those
+/// same distances. Runs `threads` workers; results are identical for any
+/// thread count.
+template <typename Quantizer = KMeansQuantizer<float>>
+class CrossValidation {
+  ICLAP_CHECK_QUANTIZER(Quantizer, Eigen::MatrixXf);
+
+ public:
+  /// Throws at construction for an empty method list or a method that needs
+  /// a classifier the factory does not make (InvalidArgument naming
+  /// "methods"), and for invalid settings.
+  CrossValidation(const TouchTable& table, ClassifierFactory factory, Quantizer quantizer, std::vector<Method> methods,
+                  CrossValidationSettings settings = {})
+      : table_(table),
+        factory_(std::move(factory)),
+        quantizer_(std::move(quantizer)),
+        methods_(std::move(methods)),
+        settings_(std::move(settings)) {
+    settings_.validate();
+    if (!factory_) throw InvalidArgument("factory", "is empty");
+    if (methods_.empty()) throw EmptyInput("methods", "no method to evaluate");
+    Recognizer probe(factory_(), settings_.normalization);
+    probe.check(methods_);
+    if (table_.size() == 0) throw EmptyInput("table", "holds no touch");
+    folds_ = std::numeric_limits<int>::max();
+    for (Index o = 0; o < static_cast<Index>(table_.objects.size()); ++o) {
+      const auto ids = table_.explorations_of(o);
+      if (ids.size() < 2)
+        throw InvalidArgument("table", "object '" + table_.objects[static_cast<std::size_t>(o)] + "' has " +
+                                           std::to_string(ids.size()) +
+                                           " exploration(s) with touches; cross validation needs at least 2");
+      folds_ = std::min(folds_, static_cast<int>(ids.size()));
+      explorations_.push_back(ids);
+    }
+    // Classifiers the weight search needs (the only ones computed on inner folds).
+    for (const auto& m : methods_)
+      if (m.fit_weights)
+        for (const auto& c : m.fusion.classifiers())
+          if (std::find(fitted_classifiers_.begin(), fitted_classifiers_.end(), c) == fitted_classifiers_.end())
+            fitted_classifiers_.push_back(c);
+  }
+
+  int folds() const noexcept { return folds_; }
+
+  /// Runs every fold. `progress` gets (test sets done, test sets in all).
+  CrossValidationResult run(const ProgressCallback& progress = {}) {
+    const Index n_objects = static_cast<Index>(table_.objects.size());
+    const std::size_t nt = settings_.touches.size();
+    CrossValidationResult result;
+    result.objects = table_.objects;
+    result.touches = settings_.touches;
+    result.folds = folds_;
+    for (const auto& m : methods_) {
+      MethodResult r;
+      r.name = m.name;
+      r.correct.assign(nt, 0);
+      r.total.assign(nt, 0);
+      r.confusion.assign(nt, Eigen::MatrixXi::Zero(n_objects, n_objects));
+      result.methods.push_back(std::move(r));
+      if (m.fit_weights && settings_.weight_sweeps) {
+        WeightSweep s;
+        s.method = m.name;
+        for (const auto& c : m.fusion.children()) s.terms.push_back(c.to_string());
+        s.grid = weight_grid(static_cast<int>(m.fusion.children().size()), settings_.weight_steps);
+        s.correct.assign(s.grid.size(), std::vector<Index>(nt, 0));
+        s.total.assign(nt, 0);
+        result.sweeps.push_back(std::move(s));
+      }
+    }
+    const bool any_fit = std::any_of(methods_.begin(), methods_.end(), [](const Method& m) { return m.fit_weights; });
+
+    // Total work, for progress.
+    std::size_t total_sets = 0;
+    for (int f = 0; f < folds_; ++f) {
+      total_sets += draws_count(f, settings_.repeats);
+      if (any_fit)
+        for (int g = 0; g < folds_; ++g)
+          if (g != f) total_sets += draws_count(g, settings_.weight_repeats);
+    }
+    std::atomic<std::size_t> done{0};
+    auto tick = [&] {
+      const std::size_t d = ++done;
+      if (progress) progress(d, total_sets);
+    };
+
+    for (int f = 0; f < folds_; ++f) {
+      // Codebook from the training touches only.
+      std::vector<Index> train;
+      for (Index i = 0; i < table_.size(); ++i)
+        if (exploration_rank(i) != f) train.push_back(i);
+      Eigen::MatrixXf train_features(table_.touches.features.rows(), static_cast<Index>(train.size()));
+      for (std::size_t j = 0; j < train.size(); ++j)
+        train_features.col(static_cast<Index>(j)) = table_.touches.features.col(train[j]);
+      Quantizer q = quantizer_;
+      q.fit(train_features);
+      const Index k = static_cast<Index>(q.size());
+      result.vocabulary.push_back(k);
+      TouchSet all = table_.touches;
+      all.words = assign_words(q, table_.touches.features);
+
+      // Fusion weights from inner folds of the training explorations.
+      std::vector<Method> chosen = methods_;
+      if (any_fit) {
+        std::vector<std::vector<Draw>> inner_draws;
+        std::vector<std::vector<DistanceTable>> inner_tables;
+        for (int g = 0; g < folds_; ++g) {
+          if (g == f) continue;
+          std::vector<Index> inner_train;
+          for (Index i : train)
+            if (exploration_rank(i) != g) inner_train.push_back(i);
+          Recognizer rec = fitted_recognizer(all, inner_train, k);
+          auto draws = make_draws(f, g, settings_.weight_repeats, result);
+          inner_tables.push_back(compute(rec, all, draws, fitted_classifiers_, tick));
+          inner_draws.push_back(std::move(draws));
+        }
+        for (auto& m : chosen)
+          if (m.fit_weights) m.fusion = choose_weights(m, inner_draws, inner_tables);
+      }
+
+      // Outer test on the held-out exploration.
+      Recognizer rec = fitted_recognizer(all, train, k);
+      const auto draws = make_draws(f, -1, settings_.repeats, result);
+      const auto tables = compute(rec, all, draws, {}, tick);
+      std::size_t sweep = 0;
+      for (std::size_t mi = 0; mi < chosen.size(); ++mi) {
+        MethodResult& r = result.methods[mi];
+        r.fold_correct.emplace_back(nt, 0);
+        r.fold_total.emplace_back(nt, 0);
+        r.fold_expressions.push_back(chosen[mi].fusion.to_string());
+        r.fold_weights.push_back(chosen[mi].fit_weights ? chosen[mi].fusion.weights() : std::vector<double>{});
+        for (std::size_t d = 0; d < draws.size(); ++d) {
+          const Index guess = decide(chosen[mi].fusion.evaluate(tables[d]));
+          const Draw& dr = draws[d];
+          const bool ok = guess == dr.object;
+          r.correct[dr.touch_index] += ok;
+          r.total[dr.touch_index] += 1;
+          r.fold_correct.back()[dr.touch_index] += ok;
+          r.fold_total.back()[dr.touch_index] += 1;
+          r.confusion[dr.touch_index](dr.object, guess) += 1;
+        }
+        if (methods_[mi].fit_weights && settings_.weight_sweeps) {
+          WeightSweep& s = result.sweeps[sweep++];
+          for (const auto& dr : draws) s.total[dr.touch_index] += 1;
+          for (std::size_t g = 0; g < s.grid.size(); ++g) {
+            const Fusion fg = methods_[mi].fusion.with_weights(s.grid[g]);
+            for (std::size_t d = 0; d < draws.size(); ++d)
+              s.correct[g][draws[d].touch_index] += decide(fg.evaluate(tables[d])) == draws[d].object;
+          }
+        }
+      }
+    }
+    return result;
+  }
+
+ private:
+  /// One test set: `touches` (indices into the table) of `object`, for
+  /// settings.touches[touch_index].
+  struct Draw {
+    Index object = 0;
+    std::size_t touch_index = 0;
+    std::vector<Index> touches;
+  };
+
+  /// Rank (fold number) of touch i's exploration among its object's.
+  int exploration_rank(Index i) const {
+    const auto& ids = explorations_[static_cast<std::size_t>(table_.object[static_cast<std::size_t>(i)])];
+    const auto it = std::lower_bound(ids.begin(), ids.end(), table_.exploration[static_cast<std::size_t>(i)]);
+    return static_cast<int>(it - ids.begin());
+  }
+
+  std::size_t draws_count(int held_rank, int repeats) const {
+    std::size_t n = 0;
+    for (Index o = 0; o < static_cast<Index>(table_.objects.size()); ++o)
+      if (!touches_of(o, held_rank).empty()) n += settings_.touches.size() * static_cast<std::size_t>(repeats);
+    return n;
+  }
+
+  std::vector<Index> touches_of(Index object, int rank) const {
+    std::vector<Index> out;
+    if (rank >= static_cast<int>(explorations_[static_cast<std::size_t>(object)].size())) return out;
+    const std::int64_t id = explorations_[static_cast<std::size_t>(object)][static_cast<std::size_t>(rank)];
+    for (Index i = 0; i < table_.size(); ++i)
+      if (table_.object[static_cast<std::size_t>(i)] == object && table_.exploration[static_cast<std::size_t>(i)] == id)
+        out.push_back(i);
+    return out;
+  }
+
+  /// Test sets drawn from exploration rank `inner` (or, for inner < 0, the
+  /// fold's held-out rank `fold`) of every object.
+  std::vector<Draw> make_draws(int fold, int inner, int repeats, CrossValidationResult& result) const {
+    const int rank = inner < 0 ? fold : inner;
+    std::vector<Draw> draws;
+    for (Index o = 0; o < static_cast<Index>(table_.objects.size()); ++o) {
+      const auto pool = touches_of(o, rank);
+      if (pool.empty()) {
+        if (inner < 0) ++result.empty_explorations;
+        continue;
+      }
+      for (std::size_t t = 0; t < settings_.touches.size(); ++t) {
+        for (int r = 0; r < repeats; ++r) {
+          const std::uint64_t stream = (static_cast<std::uint64_t>(fold) << 40) ^
+                                       (static_cast<std::uint64_t>(inner + 1) << 32) ^ static_cast<std::uint64_t>(o);
+          const std::uint64_t sub = (static_cast<std::uint64_t>(settings_.touches[t]) << 20) ^ static_cast<std::uint64_t>(r);
+          Rng rng = Rng::derive(settings_.seed, stream, sub);
+          std::vector<Index> p = pool;
+          const auto want = static_cast<std::size_t>(settings_.touches[t]);
+          const std::size_t n = std::min(want, p.size());
+          if (n < want && inner < 0) ++result.capped_draws;
+          for (std::size_t i = 0; i < n; ++i) {  // partial Fisher-Yates
+            const std::size_t j = i + static_cast<std::size_t>(rng.below(p.size() - i));
+            std::swap(p[i], p[j]);
+          }
+          p.resize(n);
+          draws.push_back(Draw{o, t, std::move(p)});
+        }
+      }
+    }
+    return draws;
+  }
+
+  Recognizer fitted_recognizer(const TouchSet& all, const std::vector<Index>& train, Index k) const {
+    Recognizer rec(factory_(), settings_.normalization);
+    const Index n_objects = static_cast<Index>(table_.objects.size());
+    std::vector<std::vector<Index>> per_object(static_cast<std::size_t>(n_objects));
+    for (Index i : train) per_object[static_cast<std::size_t>(table_.object[static_cast<std::size_t>(i)])].push_back(i);
+    std::vector<TouchSet> objects;
+    for (Index o = 0; o < n_objects; ++o) {
+      if (per_object[static_cast<std::size_t>(o)].empty())
+        throw InvalidArgument("table", "object '" + table_.objects[static_cast<std::size_t>(o)] +
+                                           "' has no training touch in a fold");
+      objects.push_back(select_touches(all, per_object[static_cast<std::size_t>(o)]));
+    }
+    rec.fit(objects, k);
+    return rec;
+  }
+
+  /// Normalised distances of every draw, in parallel; identical for any
+  /// thread count (each draw is computed independently).
+  template <typename Tick>
+  std::vector<DistanceTable> compute(const Recognizer& rec, const TouchSet& all, const std::vector<Draw>& draws,
+                                     const std::vector<std::string>& only, Tick& tick) const {
+    std::vector<DistanceTable> tables(draws.size());
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr error;
+    std::mutex error_mutex;
+    auto worker = [&] {
+      for (;;) {
+        const std::size_t d = next++;
+        if (d >= draws.size()) return;
+        try {
+          tables[d] = rec.distances(select_touches(all, draws[d].touches), only);
+        } catch (...) {
+          std::lock_guard<std::mutex> lock(error_mutex);
+          if (!error) error = std::current_exception();
+          next = draws.size();
+          return;
+        }
+        tick();
+      }
+    };
+    unsigned n = settings_.threads > 0 ? static_cast<unsigned>(settings_.threads) : std::thread::hardware_concurrency();
+    n = std::max(1u, std::min<unsigned>(n, static_cast<unsigned>(std::max<std::size_t>(1, draws.size()))));
+    std::vector<std::thread> pool;
+    for (unsigned i = 1; i < n; ++i) pool.emplace_back(worker);
+    worker();
+    for (auto& t : pool) t.join();
+    if (error) std::rethrow_exception(error);
+    return tables;
+  }
+
+  /// The grid weights with the highest inner-fold rate (ties: larger mean
+  /// margin, then grid order).
+  Fusion choose_weights(const Method& m, const std::vector<std::vector<Draw>>& draws,
+                        const std::vector<std::vector<DistanceTable>>& tables) const {
+    const auto grid = weight_grid(static_cast<int>(m.fusion.children().size()), settings_.weight_steps);
+    std::size_t best = 0;
+    Index best_correct = -1;
+    double best_margin = -std::numeric_limits<double>::infinity();
+    for (std::size_t g = 0; g < grid.size(); ++g) {
+      const Fusion fg = m.fusion.with_weights(grid[g]);
+      Index correct = 0;
+      double margin = 0;
+      std::size_t count = 0;
+      for (std::size_t s = 0; s < draws.size(); ++s)
+        for (std::size_t d = 0; d < draws[s].size(); ++d) {
+          const Eigen::VectorXd fused = fg.evaluate(tables[s][d]);
+          const Index truth = draws[s][d].object;
+          correct += decide(fused) == truth;
+          double other = std::numeric_limits<double>::infinity();
+          for (Index j = 0; j < fused.size(); ++j)
+            if (j != truth) other = std::min(other, fused(j));
+          if (std::isfinite(other)) margin += other - fused(truth);
+          ++count;
+        }
+      margin /= static_cast<double>(std::max<std::size_t>(count, 1));
+      if (correct > best_correct || (correct == best_correct && margin > best_margin)) {
+        best = g;
+        best_correct = correct;
+        best_margin = margin;
+      }
+    }
+    return m.fusion.with_weights(grid[best]);
+  }
+
+  const TouchTable& table_;
+  ClassifierFactory factory_;
+  Quantizer quantizer_;
+  std::vector<Method> methods_;
+  CrossValidationSettings settings_;
+  int folds_ = 0;
+  std::vector<std::vector<std::int64_t>> explorations_;
+  std::vector<std::string> fitted_classifiers_;
+};
+
+}  // namespace iclap

@@ -1,0 +1,176 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cctype>
+#include <cstdlib>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "iclap/core/error.hpp"
+#include "iclap/recognition/fusion.hpp"
+
+namespace iclap {
+
+/// A recognition method under a stable name (used on the command line and in
+/// results files): a fusion expression, and whether the weights of its
+/// top-level weighted sum are to be chosen by the brute-force grid
+/// (`fit_weights`) or are fixed as written.
+struct Method {
+  std::string name;
+  Fusion fusion;
+  bool fit_weights = false;
+};
+
+namespace detail {
+
+/// Recursive-descent parser of method expressions:
+///   sum     := term ('+' term)*
+///   term    := [number '*'] product
+///   product := factor ('*' factor)*
+///   factor  := name | '(' sum ')'
+class MethodParser {
+ public:
+  explicit MethodParser(const std::string& text) : s_(text) {}
+
+  std::pair<Fusion, bool> parse() {
+    bool fit = false;
+    Fusion f = sum(fit);
+    skip();
+    if (pos_ != s_.size()) fail("unexpected '" + s_.substr(pos_) + "'");
+    return {f, fit};
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& why) const {
+    throw InvalidArgument("method", "'" + s_ + "': " + why + " (at character " + std::to_string(pos_ + 1) + ")");
+  }
+  void skip() {
+    while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+  }
+  bool eat(char c) {
+    skip();
+    if (pos_ < s_.size() && s_[pos_] == c) {
+      ++pos_;
+      return true;
+    }
+    return false;
+  }
+
+  Fusion sum(bool& fit) {
+    std::vector<std::pair<double, Fusion>> terms;
+    int weighted = 0;
+    do {
+      skip();
+      double w = 0;
+      if (pos_ < s_.size() && (std::isdigit(static_cast<unsigned char>(s_[pos_])) || s_[pos_] == '.')) {
+        const char* begin = s_.c_str() + pos_;
+        char* end = nullptr;
+        w = std::strtod(begin, &end);
+        pos_ += static_cast<std::size_t>(end - begin);
+        if (!eat('*')) fail("a weight must be followed by '*'");
+        ++weighted;
+      }
+      terms.emplace_back(w, product());
+    } while (eat('+'));
+    if (terms.size() == 1 && weighted == 0) return terms.front().second;
+    if (weighted != 0 && weighted != static_cast<int>(terms.size()))
+      fail("give a weight for every term of a sum, or for none (then they are fitted)");
+    if (weighted == 0) {
+      // Weights to be chosen by the grid: start from uniform ones.
+      fit = true;
+      const double u = 1.0 / static_cast<double>(terms.size());
+      for (auto& t : terms) t.first = u;
+      double total = 0;
+      for (std::size_t i = 0; i + 1 < terms.size(); ++i) total += terms[i].first;
+      terms.back().first = 1.0 - total;
+    }
+    return Fusion::weighted_sum(std::move(terms));
+  }
+
+  Fusion product() {
+    std::vector<Fusion> factors{factor()};
+    while (eat('*')) factors.push_back(factor());
+    return factors.size() == 1 ? factors.front() : Fusion::product(std::move(factors));
+  }
+
+  Fusion factor() {
+    if (eat('(')) {
+      bool inner_fit = false;
+      Fusion f = sum(inner_fit);
+      if (inner_fit) fail("fitted weights are supported only in the top-level sum");
+      if (!eat(')')) fail("missing ')'");
+      return f;
+    }
+    skip();
+    const std::size_t start = pos_;
+    while (pos_ < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[pos_])) || s_[pos_] == '_')) ++pos_;
+    if (pos_ == start) fail("expected a classifier name");
+    return Fusion::classifier(s_.substr(start, pos_ - start));
+  }
+
+  std::string s_;
+  std::size_t pos_ = 0;
+};
+
+}  // namespace detail
+
+/// Parses a method: a classifier name ("iclap"), a sum whose weights are
+/// fitted ("iclap+icp+bow"), a sum with fixed weights
+/// ("0.6*iclap+0.2*icp+0.2*bow"), a product ("iclap*icp*bow") or any nesting
+/// ("0.5*(icp*bow)+0.5*iclap"). The method's name is `spec` with spaces
+/// removed. Throws InvalidArgument naming "method" (syntax, with the
+/// position) or "weights" (bad fixed weights).
+inline Method parse_method(const std::string& spec) {
+  std::string name;
+  for (char c : spec)
+    if (!std::isspace(static_cast<unsigned char>(c))) name += c;
+  auto [fusion, fit] = detail::MethodParser(name).parse();
+  return Method{name, std::move(fusion), fit};
+}
+
+/// The paper's eleven methods (Sections IV-VI), in its order: the three
+/// single pipelines, the two decision fusions of ICP and BoW, and the six
+/// hybrid fusions with iCLAP. `+` is a weighted sum whose weights the grid
+/// chooses (the paper's w_p1, w_p2, w_w3, and w_p4 / w_w4), `*` a product.
+inline std::vector<Method> paper_methods() {
+  std::vector<Method> out;
+  for (const char* spec : {"bow", "icp", "iclap", "icp+bow", "icp*bow", "iclap+icp", "iclap*icp", "iclap+bow",
+                           "iclap*bow", "iclap+icp+bow", "iclap*icp*bow"})
+    out.push_back(parse_method(spec));
+  return out;
+}
+
+/// The paper's brute-force weight grid: every vector of `terms` weights that
+/// are multiples of 1/`steps` (0.1 for steps = 10), each at least one step,
+/// summing to 1; in lexicographic order. 2 terms: 9 vectors (0.1..0.9);
+/// 3 terms: 36. Throws InvalidArgument naming "terms" / "steps" when no
+/// vector exists.
+inline std::vector<std::vector<double>> weight_grid(int terms, int steps = 10) {
+  if (terms < 1) throw InvalidArgument("terms", "must be at least 1, got " + std::to_string(terms));
+  if (steps < terms) throw InvalidArgument("steps", "must be at least the number of terms (" + std::to_string(terms) + ")");
+  std::vector<std::vector<double>> out;
+  std::vector<int> parts(static_cast<std::size_t>(terms), 1);
+  // Enumerate compositions of `steps` into `terms` positive parts.
+  auto rec = [&](auto&& self, int index, int left) -> void {
+    if (index == terms - 1) {
+      parts[static_cast<std::size_t>(index)] = left;
+      std::vector<double> w;
+      for (int p : parts) w.push_back(static_cast<double>(p) / static_cast<double>(steps));
+      // Make the sum exactly 1 despite rounding of the tenths.
+      double total = 0;
+      for (std::size_t i = 0; i + 1 < w.size(); ++i) total += w[i];
+      w.back() = 1.0 - total;
+      out.push_back(std::move(w));
+      return;
+    }
+    for (int p = 1; p <= left - (terms - 1 - index); ++p) {
+      parts[static_cast<std::size_t>(index)] = p;
+      self(self, index + 1, left - p);
+    }
+  };
+  rec(rec, 0, steps);
+  return out;
+}
+
+}  // namespace iclap

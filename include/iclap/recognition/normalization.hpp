@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "iclap/core/check.hpp"
+#include "iclap/core/error.hpp"
+
+namespace iclap {
+
+/// How a classifier's distances to the N known objects are made comparable
+/// with another classifier's before fusion.
+enum class Normalization {
+  /// d / ||d||_2 over the objects: the paper's choice (Sections III and IV,
+  /// "normalized by L2 norm"). Non-negative, scale-free.
+  L2,
+  /// (d - min) / (max - min): the best object gets 0, the worst 1.
+  MinMax,
+  /// (d - mean) / standard deviation (population). Signed, so it suits
+  /// weighted sums but not product fusion.
+  ZScore,
+};
+
+inline const char* to_string(Normalization n) noexcept {
+  switch (n) {
+    case Normalization::L2: return "l2";
+    case Normalization::MinMax: return "minmax";
+    case Normalization::ZScore: return "zscore";
+  }
+  return "unknown";
+}
+
+/// Parses "l2", "minmax" or "zscore"; throws InvalidArgument naming
+/// "normalization" otherwise.
+inline Normalization parse_normalization(const std::string& name) {
+  if (name == "l2") return Normalization::L2;
+  if (name == "minmax") return Normalization::MinMax;
+  if (name == "zscore") return Normalization::ZScore;
+  throw InvalidArgument("normalization", "'" + name + "' is not one of l2|minmax|zscore");
+}
+
+/// Normalises `d` (one distance per object) in place. Distances must be
+/// finite and, for L2 and MinMax, non-negative (NonFiniteValue /
+/// InvalidArgument naming "distances"). Degenerate inputs are defined, never
+/// NaN: all zeros (L2) or all equal (MinMax, ZScore) give all zeros, a tie
+/// of every object. O(N).
+inline void normalize(Eigen::Ref<Eigen::VectorXd> d, Normalization kind) {
+  check_finite(d, "distances");
+  if (d.size() == 0) return;
+  if (kind != Normalization::ZScore && d.minCoeff() < 0)
+    throw InvalidArgument("distances", "must be non-negative for " + std::string(to_string(kind)) +
+                                           " normalisation (got " + std::to_string(d.minCoeff()) + ")");
+  switch (kind) {
+    case Normalization::L2: {
+      // Scale first so that huge distances cannot overflow the squares.
+      const double m = d.maxCoeff();
+      if (m > 0) {
+        d /= m;
+        d /= d.norm();
+      }
+      break;
+    }
+    case Normalization::MinMax: {
+      const double lo = d.minCoeff(), hi = d.maxCoeff();
+      if (hi > lo) d = (d.array() - lo) / (hi - lo);
+      else d.setZero();
+      break;
+    }
+    case Normalization::ZScore: {
+      const double mean = d.mean();
+      const double sd = std::sqrt((d.array() - mean).square().mean());
+      if (sd > 0) d = (d.array() - mean) / sd;
+      else d.setZero();
+      break;
+    }
+  }
+}
+
+}  // namespace iclap

@@ -1,0 +1,126 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <algorithm>
+#include <memory>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "iclap/core/error.hpp"
+#include "iclap/recognition/classifier.hpp"
+#include "iclap/recognition/fusion.hpp"
+#include "iclap/recognition/methods.hpp"
+#include "iclap/recognition/normalization.hpp"
+
+namespace iclap {
+
+/// Checks that every classifier a method uses is among `available`; throws
+/// InvalidArgument naming "methods" with the method and the missing name.
+inline void check_methods_use_known_classifiers(const std::vector<Method>& methods,
+                                                const std::vector<std::string>& available) {
+  for (const auto& m : methods)
+    for (const auto& c : m.fusion.classifiers())
+      if (std::find(available.begin(), available.end(), c) == available.end()) {
+        std::string list;
+        for (const auto& a : available) list += (list.empty() ? "" : ", ") + a;
+        throw InvalidArgument("methods", "method '" + m.name + "' needs classifier '" + c +
+                                             "', which is not among the classifiers (" + list + ")");
+      }
+}
+
+/// How sure a decision is: the relative margin 1 - best / second best of
+/// non-negative fused distances, in [0, 1] (0: a tie, 1: the best distance is
+/// 0 and the next is not). 1 with a single object; 0 when every distance is 0.
+inline double decision_confidence(const Eigen::Ref<const Eigen::VectorXd>& fused) {
+  if (fused.size() < 2) return 1.0;
+  double best = fused(0), second = fused(1);
+  if (second < best) std::swap(best, second);
+  for (Index j = 2; j < fused.size(); ++j) {
+    if (fused(j) < best) {
+      second = best;
+      best = fused(j);
+    } else if (fused(j) < second) {
+      second = fused(j);
+    }
+  }
+  if (best < 0) throw InvalidArgument("fused", "confidence needs non-negative distances");
+  return second > 0 ? 1.0 - best / second : 0.0;
+}
+
+/// The recognition system for one training set: its classifiers (fitted
+/// once), the normalisation of their distances and any fusion method over
+/// them. Typical use: fit, then for each test touch set `distances` once and
+/// `fuse` / `decide` with as many methods as wanted.
+///
+/// `distances` is const and thread-safe once fitted.
+class Recognizer {
+ public:
+  Recognizer(std::vector<std::unique_ptr<Classifier>> classifiers, Normalization normalization = Normalization::L2)
+      : classifiers_(std::move(classifiers)), normalization_(normalization) {
+    if (classifiers_.empty()) throw EmptyInput("classifiers", "a recogniser needs at least one classifier");
+    std::vector<std::string> seen;
+    for (const auto& c : classifiers_) {
+      if (!c) throw InvalidArgument("classifiers", "holds a null classifier");
+      if (std::find(seen.begin(), seen.end(), c->name()) != seen.end())
+        throw InvalidArgument("classifiers", "two classifiers are named '" + c->name() + "'");
+      seen.push_back(c->name());
+    }
+  }
+
+  /// Names of the classifiers, in order.
+  std::vector<std::string> classifier_names() const {
+    std::vector<std::string> out;
+    for (const auto& c : classifiers_) out.push_back(c->name());
+    return out;
+  }
+
+  /// Throws like check_methods_use_known_classifiers, and when a method
+  /// multiplies distances that this recogniser's normalisation makes signed.
+  void check(const std::vector<Method>& methods) const {
+    check_methods_use_known_classifiers(methods, classifier_names());
+    if (normalization_ == Normalization::ZScore)
+      for (const auto& m : methods)
+        if (has_product(m.fusion))
+          throw InvalidArgument("methods", "method '" + m.name +
+                                               "' multiplies distances, but z-score normalisation makes them signed; "
+                                               "use l2 or minmax");
+  }
+
+  /// Fits every classifier on the same training touches (one set per object).
+  void fit(const std::vector<TouchSet>& objects, Index vocabulary) {
+    for (auto& c : classifiers_) c->fit(objects, vocabulary);
+  }
+
+  Index objects() const { return classifiers_.front()->objects(); }
+
+  /// Normalised distances of every classifier (or of those named in `only`,
+  /// if not empty) from `test` to every object.
+  DistanceTable distances(const TouchSet& test, const std::vector<std::string>& only = {}) const {
+    DistanceTable table;
+    Eigen::VectorXd d(objects());
+    for (const auto& c : classifiers_) {
+      if (!only.empty() && std::find(only.begin(), only.end(), c->name()) == only.end()) continue;
+      c->distances(test, d);
+      normalize(d, normalization_);
+      table.set(c->name(), d);
+    }
+    return table;
+  }
+
+  Normalization normalization() const noexcept { return normalization_; }
+  const std::vector<std::unique_ptr<Classifier>>& classifiers() const noexcept { return classifiers_; }
+
+ private:
+  static bool has_product(const Fusion& f) {
+    if (f.kind() == Fusion::Kind::Product) return true;
+    for (const auto& c : f.children())
+      if (has_product(c)) return true;
+    return false;
+  }
+
+  std::vector<std::unique_ptr<Classifier>> classifiers_;
+  Normalization normalization_;
+};
+
+}  // namespace iclap

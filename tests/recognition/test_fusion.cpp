@@ -1,0 +1,186 @@
+// SPDX-License-Identifier: MIT
+// Fusion algebra, method names and weight grids, normalisation, decisions.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "iclap/recognition/recognition.hpp"
+
+using namespace iclap;
+
+namespace {
+DistanceTable table_of(std::initializer_list<std::pair<const char*, Eigen::VectorXd>> entries) {
+  DistanceTable t;
+  for (const auto& e : entries) t.set(e.first, e.second);
+  return t;
+}
+Eigen::VectorXd vec(std::initializer_list<double> v) {
+  Eigen::VectorXd x(static_cast<Index>(v.size()));
+  Index i = 0;
+  for (double d : v) x(i++) = d;
+  return x;
+}
+template <typename F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const InvalidArgument& e) {
+    return std::string(e.argument()) + " | " + e.what();
+  }
+  return "(no error)";
+}
+}  // namespace
+
+TEST_CASE("the paper's three-way fusion in one line") {
+  const Fusion icp = Fusion::classifier("icp"), bow = Fusion::classifier("bow"), iclap = Fusion::classifier("iclap");
+  const Fusion all = 0.2 * icp + 0.2 * bow + 0.6 * iclap;
+  const auto t = table_of({{"icp", vec({0.1, 0.5, 0.8})}, {"bow", vec({0.4, 0.2, 0.9})}, {"iclap", vec({0.3, 0.6, 0.1})}});
+  const Eigen::VectorXd e = all.evaluate(t);
+  CHECK(e(0) == doctest::Approx(0.2 * 0.1 + 0.2 * 0.4 + 0.6 * 0.3));
+  CHECK(e(1) == doctest::Approx(0.2 * 0.5 + 0.2 * 0.2 + 0.6 * 0.6));
+  CHECK(e(2) == doctest::Approx(0.2 * 0.8 + 0.2 * 0.9 + 0.6 * 0.1));
+  CHECK(decide(e) == 0);
+  CHECK(all.to_string() == "0.2*icp+0.2*bow+0.6*iclap");
+  CHECK(all.classifiers() == std::vector<std::string>{"icp", "bow", "iclap"});
+
+  const Fusion prod = icp * bow * iclap;
+  CHECK(prod.kind() == Fusion::Kind::Product);
+  CHECK(prod.children().size() == 3);  // flattened
+  CHECK(prod.evaluate(t)(1) == doctest::Approx(0.5 * 0.2 * 0.6));
+  CHECK(prod.to_string() == "icp*bow*iclap");
+}
+
+TEST_CASE("fusions nest") {
+  const Fusion icp = Fusion::classifier("icp"), bow = Fusion::classifier("bow"), iclap = Fusion::classifier("iclap");
+  const Fusion inner = 0.5 * icp + 0.5 * bow;
+  const Fusion nested = 0.4 * (icp * bow) + 0.6 * (inner * iclap);
+  const auto t = table_of({{"icp", vec({0.2, 0.4})}, {"bow", vec({0.6, 0.8})}, {"iclap", vec({1.0, 0.5})}});
+  const Eigen::VectorXd e = nested.evaluate(t);
+  CHECK(e(0) == doctest::Approx(0.4 * 0.2 * 0.6 + 0.6 * (0.5 * 0.2 + 0.5 * 0.6) * 1.0));
+  CHECK(e(1) == doctest::Approx(0.4 * 0.4 * 0.8 + 0.6 * (0.5 * 0.4 + 0.5 * 0.8) * 0.5));
+  CHECK(nested.to_string() == "0.4*icp*bow+0.6*(0.5*icp+0.5*bow)*iclap");
+  CHECK(parse_method("0.4*icp*bow+0.6*(0.5*icp+0.5*bow)*iclap").fusion.evaluate(t).isApprox(e));
+}
+
+TEST_CASE("bad compositions fail at construction with a clear message") {
+  const Fusion icp = Fusion::classifier("icp"), bow = Fusion::classifier("bow");
+  CHECK(error_of([&] { Fusion f = 0.2 * icp + 0.7 * bow; }) ==
+        "weights | weights: the weights sum to 0.9, not 1, in 0.2*icp+0.7*bow");
+  CHECK(error_of([&] { Fusion f = -0.5 * icp + 1.5 * bow; }).find("negative weight -0.5 for icp") != std::string::npos);
+  CHECK(error_of([&] { Fusion::weighted_sum({}); }).find("at least one term") != std::string::npos);
+  CHECK(error_of([&] { Fusion::classifier("a b"); }).find("classifier") == 0);
+  CHECK(error_of([&] { Fusion f = std::numeric_limits<double>::quiet_NaN() * icp + 1.0 * bow; }).find("not finite") !=
+        std::string::npos);
+  // A classifier the recogniser does not have.
+  std::vector<std::unique_ptr<Classifier>> cs;
+  cs.push_back(std::make_unique<BowClassifier>());
+  const Recognizer rec(std::move(cs));
+  CHECK(error_of([&] { rec.check({parse_method("icp+bow")}); }) ==
+        "methods | methods: method 'icp+bow' needs classifier 'icp', which is not among the classifiers (bow)");
+  // Products of signed (z-scored) distances.
+  std::vector<std::unique_ptr<Classifier>> cs2;
+  cs2.push_back(std::make_unique<BowClassifier>());
+  const Recognizer zrec(std::move(cs2), Normalization::ZScore);
+  CHECK(error_of([&] { zrec.check({parse_method("bow*bow")}); }).find("z-score") != std::string::npos);
+  CHECK_NOTHROW(zrec.check({parse_method("bow")}));
+  // Evaluating without a classifier's distances.
+  const auto t = table_of({{"icp", vec({0.1, 0.2})}});
+  CHECK(error_of([&] { (icp * bow).evaluate(t); }).find("'bow' has no distances") != std::string::npos);
+  // Mismatched lengths in one table.
+  DistanceTable bad;
+  bad.set("icp", vec({1, 2}));
+  CHECK_THROWS_AS(bad.set("bow", vec({1, 2, 3})), DimensionMismatch);
+}
+
+TEST_CASE("product with a zero distance, and deterministic ties") {
+  const Fusion icp = Fusion::classifier("icp"), bow = Fusion::classifier("bow");
+  const auto t = table_of({{"icp", vec({0.7, 0.0, 0.5})}, {"bow", vec({0.1, 0.9, 0.05})}});
+  // The zero wins the product whatever the other factor says.
+  CHECK(decide((icp * bow).evaluate(t)) == 1);
+  // Two zeros: the smaller index wins.
+  const auto z = table_of({{"icp", vec({0.7, 0.0, 0.0})}, {"bow", vec({0.1, 0.9, 0.05})}});
+  CHECK(decide((icp * bow).evaluate(z)) == 1);
+  CHECK(decide(vec({0.3, 0.1, 0.1, 0.2})) == 1);
+  CHECK(decide(vec({0.5, 0.5})) == 0);
+  CHECK(decide(Eigen::VectorXd()) == -1);
+  // Negative inputs to a product are refused.
+  const auto neg = table_of({{"icp", vec({-0.7, 0.0})}, {"bow", vec({0.1, 0.9})}});
+  CHECK(error_of([&] { (icp * bow).evaluate(neg); }).find("non-negative") != std::string::npos);
+}
+
+TEST_CASE("method names, parsing and the weight grid") {
+  const auto methods = paper_methods();
+  std::vector<std::string> names;
+  for (const auto& m : methods) names.push_back(m.name);
+  CHECK(names == std::vector<std::string>{"bow", "icp", "iclap", "icp+bow", "icp*bow", "iclap+icp", "iclap*icp",
+                                          "iclap+bow", "iclap*bow", "iclap+icp+bow", "iclap*icp*bow"});
+  CHECK(!methods[0].fit_weights);
+  CHECK(methods[3].fit_weights);
+  CHECK(!methods[4].fit_weights);
+  CHECK(methods[9].fusion.children().size() == 3);
+  const Method fixed = parse_method(" 0.6*iclap + 0.2*icp + 0.2*bow ");
+  CHECK(fixed.name == "0.6*iclap+0.2*icp+0.2*bow");
+  CHECK(!fixed.fit_weights);
+  CHECK(fixed.fusion.weights() == std::vector<double>{0.6, 0.2, 0.2});
+  CHECK(error_of([] { parse_method("icp+"); }).find("expected a classifier name") != std::string::npos);
+  CHECK(error_of([] { parse_method("0.5*icp+bow"); }).find("for every term") != std::string::npos);
+  CHECK(error_of([] { parse_method("(icp"); }).find("missing ')'") != std::string::npos);
+  CHECK(error_of([] { parse_method("0.3*icp+0.3*bow"); }).find("sum to 0.6") != std::string::npos);
+  CHECK(error_of([] { parse_method("(icp+bow)*iclap"); }).find("top-level") != std::string::npos);
+
+  const auto g2 = weight_grid(2);
+  REQUIRE(g2.size() == 9);
+  CHECK(g2.front() == std::vector<double>{0.1, 0.9});
+  const auto g3 = weight_grid(3);
+  CHECK(g3.size() == 36);
+  for (const auto& w : g3) {
+    CHECK(w.size() == 3);
+    CHECK(w[0] + w[1] + w[2] == 1.0);
+    for (double x : w) CHECK(x >= 0.1 - 1e-12);
+  }
+  CHECK(weight_grid(1).size() == 1);
+  CHECK_THROWS_AS(weight_grid(4, 3), InvalidArgument);
+  // Every grid vector is accepted by the method's sum.
+  for (const auto& w : g3) CHECK_NOTHROW(methods[9].fusion.with_weights(w));
+}
+
+TEST_CASE("normalisation policies") {
+  Eigen::VectorXd d = vec({3, 4, 0});
+  normalize(d, Normalization::L2);
+  CHECK(d.isApprox(vec({0.6, 0.8, 0.0})));
+  d = vec({2, 4, 6});
+  normalize(d, Normalization::MinMax);
+  CHECK(d.isApprox(vec({0, 0.5, 1})));
+  d = vec({1, 2, 3});
+  normalize(d, Normalization::ZScore);
+  CHECK(d.sum() == doctest::Approx(0.0));
+  CHECK(d.squaredNorm() / 3 == doctest::Approx(1.0));
+  for (auto kind : {Normalization::L2, Normalization::MinMax, Normalization::ZScore}) {
+    Eigen::VectorXd z = vec({0, 0, 0});
+    normalize(z, kind);
+    CHECK(z.isZero(0));
+    Eigen::VectorXd same = vec({5, 5});
+    normalize(same, kind);
+    CHECK(same.allFinite());
+  }
+  // Huge values do not overflow.
+  d = vec({1e300, 1e300});
+  normalize(d, Normalization::L2);
+  CHECK(d(0) == doctest::Approx(std::sqrt(0.5)));
+  d = vec({1, -1});
+  CHECK_THROWS_AS(normalize(d, Normalization::L2), InvalidArgument);
+  d = vec({1, std::numeric_limits<double>::quiet_NaN()});
+  CHECK_THROWS_AS(normalize(d, Normalization::MinMax), NonFiniteValue);
+  CHECK(parse_normalization("minmax") == Normalization::MinMax);
+  CHECK_THROWS_AS(parse_normalization("max"), InvalidArgument);
+}
+
+TEST_CASE("decision confidence") {
+  CHECK(decision_confidence(vec({0.2, 0.4, 0.8})) == doctest::Approx(0.5));
+  CHECK(decision_confidence(vec({0.4, 0.4})) == 0.0);
+  CHECK(decision_confidence(vec({0.0, 0.4})) == 1.0);
+  CHECK(decision_confidence(vec({0.0, 0.0})) == 0.0);
+  CHECK(decision_confidence(vec({0.3})) == 1.0);
+}

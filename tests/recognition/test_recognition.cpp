@@ -1,0 +1,240 @@
+// SPDX-License-Identifier: MIT
+// Classifiers, the recogniser and the cross-validation engine on small
+// synthetic touch data.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "iclap/core/random.hpp"
+#include "iclap/recognition/recognition.hpp"
+
+using namespace iclap;
+
+namespace {
+
+/// Three objects on a table, 4 explorations each, 25 touches per
+/// exploration: a straight bar (object 0), a ring (object 1) and the same
+/// bar with a differently shaped end (object 2: same extent as 0, other local
+/// feel at one end). Features are 4-D: a "pattern" per local shape plus
+/// noise. Each exploration re-places the object by a small shift.
+TouchTable synthetic_table(std::uint64_t seed) {
+  TouchTable t;
+  t.objects = {"bar", "ring", "bar_hooked"};
+  Rng rng(seed);
+  const int per = 25;
+  const int n = 3 * 4 * per;
+  t.touches.positions.resize(3, n);
+  t.touches.features.resize(4, n);
+  Index j = 0;
+  for (Index o = 0; o < 3; ++o) {
+    for (std::int64_t e = 0; e < 4; ++e) {
+      const Eigen::Vector3d shift(rng.uniform(-0.002, 0.002), rng.uniform(-0.002, 0.002), 0.0);
+      for (int i = 0; i < per; ++i) {
+        const double u = rng.uniform();
+        Eigen::Vector3d p;
+        Eigen::Vector4f f = Eigen::Vector4f::Zero();
+        if (o == 1) {
+          const double a = 2 * 3.141592653589793 * u;
+          p << 0.03 * std::cos(a), 0.03 * std::sin(a), 0.01;
+          f(1) = 1;
+        } else {
+          p << -0.06 + 0.12 * u, 0.0, 0.01;
+          const bool end = u > 0.8;
+          f(end ? (o == 0 ? 2 : 3) : 0) = 1;
+        }
+        p += shift + Eigen::Vector3d(rng.normal(0, 3e-4), rng.normal(0, 3e-4), rng.normal(0, 3e-4));
+        for (Index k = 0; k < 4; ++k) f(k) += static_cast<float>(rng.normal(0, 0.05));
+        t.touches.positions.col(j) = p;
+        t.touches.features.col(j) = f;
+        t.object.push_back(o);
+        t.exploration.push_back(e + 10);  // ids need not start at 0
+        t.frame.push_back(i);
+        ++j;
+      }
+    }
+  }
+  return t;
+}
+
+std::vector<std::unique_ptr<Classifier>> all_classifiers() {
+  std::vector<std::unique_ptr<Classifier>> cs;
+  cs.push_back(std::make_unique<BowClassifier>());
+  cs.push_back(std::make_unique<IcpClassifier<float, Planar>>());
+  auto iclap = std::make_unique<IclapClassifier<float, Planar>>();
+  iclap->embedding.label_scale = 0.01;
+  cs.push_back(std::move(iclap));
+  cs.push_back(std::make_unique<IclapNClassifier<4, double, SpatialRigid>>());
+  return cs;
+}
+
+KMeansQuantizer<float> codebook(Index k) {
+  KMeansQuantizer<float> q;
+  q.settings.k = k;
+  q.settings.seed = 3;
+  return q;
+}
+
+/// Training sets per object from the whole table, with words.
+std::vector<TouchSet> per_object(const TouchTable& t, const WordIds& words) {
+  TouchSet all = t.touches;
+  all.words = words;
+  std::vector<TouchSet> out;
+  for (Index o = 0; o < 3; ++o) {
+    std::vector<Index> idx;
+    for (Index i = 0; i < t.size(); ++i)
+      if (t.object[static_cast<std::size_t>(i)] == o) idx.push_back(i);
+    out.push_back(select_touches(all, idx));
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("each classifier recognises tests drawn from its own training data") {
+  const TouchTable t = synthetic_table(1);
+  KMeansQuantizer<float> q = codebook(4);
+  q.fit(t.touches.features);
+  const WordIds words = assign_words(q, t.touches.features);
+  const auto objects = per_object(t, words);
+  for (auto& c : all_classifiers()) {
+    c->fit(objects, q.size());
+    CHECK(c->objects() == 3);
+    for (Index o = 0; o < 3; ++o) {
+      // 12 of the object's own training touches.
+      std::vector<Index> idx;
+      for (Index i = 0; i < 12; ++i) idx.push_back(i * 7 % objects[static_cast<std::size_t>(o)].size());
+      const TouchSet test = select_touches(objects[static_cast<std::size_t>(o)], idx);
+      Eigen::VectorXd d(3);
+      c->distances(test, d);
+      CAPTURE(c->name());
+      CAPTURE(o);
+      CHECK(d.allFinite());
+      CHECK(d.minCoeff() >= 0);
+      CHECK(decide(d) == o);
+      if (c->name() != "bow") CHECK(d(o) < 1e-9);  // every test point is a reference point
+    }
+  }
+}
+
+TEST_CASE("classifier inputs are validated") {
+  const TouchTable t = synthetic_table(2);
+  BowClassifier bow;
+  CHECK_THROWS_AS(bow.fit({}, 4), EmptyInput);
+  TouchSet no_words;
+  no_words.positions = Eigen::Matrix3Xd::Zero(3, 2);
+  CHECK_THROWS_AS(bow.fit({no_words}, 4), EmptyInput);
+  IcpClassifier<double> icp;
+  TouchSet bad = no_words;
+  bad.positions(1, 1) = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_AS(icp.fit({bad}, 4), NonFiniteValue);
+  IclapNClassifier<4> fixed;
+  TouchSet wrong = no_words;
+  wrong.features = Eigen::MatrixXf::Zero(5, 2);  // 5-D features for a 4-D classifier
+  CHECK_THROWS_AS(fixed.fit({wrong}, 4), DimensionMismatch);
+  IclapClassifier<float> iclap;
+  iclap.embedding.label_scale = -1;
+  TouchSet labeled = no_words;
+  labeled.words = WordIds::Zero(2);
+  CHECK_THROWS_AS(iclap.fit({labeled}, 4), InvalidArgument);
+}
+
+TEST_CASE("the recogniser fuses every classifier once per test") {
+  const TouchTable t = synthetic_table(3);
+  KMeansQuantizer<float> q = codebook(4);
+  q.fit(t.touches.features);
+  const auto objects = per_object(t, assign_words(q, t.touches.features));
+  Recognizer rec(all_classifiers());
+  rec.check(paper_methods());
+  rec.fit(objects, q.size());
+  const DistanceTable table = rec.distances(objects[1]);
+  for (const char* name : {"bow", "icp", "iclap", "iclapn"}) {
+    CHECK(table.get(name).norm() == doctest::Approx(1.0));  // L2-normalised
+  }
+  for (const auto& m : paper_methods()) CHECK(decide(m.fusion.evaluate(table)) == 1);
+  const DistanceTable only = rec.distances(objects[0], {"icp"});
+  CHECK(only.has("icp"));
+  CHECK(!only.has("bow"));
+}
+
+TEST_CASE("cross validation: rates, weights from training folds, identical for any thread count") {
+  const TouchTable t = synthetic_table(4);
+  CrossValidationSettings s;
+  s.touches = {1, 3, 8};
+  s.repeats = 4;
+  s.weight_repeats = 1;
+  s.seed = 9;
+  auto methods = paper_methods();
+  methods.push_back(parse_method("0.5*iclapn+0.5*bow"));
+  s.threads = 1;
+  CrossValidation<> one(t, all_classifiers, codebook(4), methods, s);
+  CHECK(one.folds() == 4);
+  const auto a = one.run();
+  s.threads = 2;
+  CrossValidation<> two(t, all_classifiers, codebook(4), methods, s);
+  std::size_t last = 0, calls = 0;
+  const auto b = two.run([&](std::size_t done, std::size_t total) {
+    CHECK(total > 0);
+    CHECK(done <= total);
+    last = done;
+    ++calls;
+  });
+  CHECK(calls > 0);
+  CHECK(last == calls);  // every test set reported once
+  REQUIRE(a.methods.size() == methods.size());
+  CHECK(a.vocabulary == std::vector<Index>{4, 4, 4, 4});
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    CAPTURE(methods[m].name);
+    CHECK(a.methods[m].correct == b.methods[m].correct);
+    CHECK(a.methods[m].fold_weights == b.methods[m].fold_weights);
+    for (std::size_t i = 0; i < s.touches.size(); ++i) {
+      CHECK(a.methods[m].total[i] == 3 * 4 * 4);  // objects x folds x repeats
+      CHECK(a.methods[m].rate(i) >= 0.0);
+      CHECK(a.methods[m].rate(i) <= 1.0);
+      CHECK(a.methods[m].confusion[i].sum() == a.methods[m].total[i]);
+      CHECK(a.methods[m].confusion[i].diagonal().sum() == a.methods[m].correct[i]);
+    }
+    if (methods[m].fit_weights) {
+      REQUIRE(a.methods[m].fold_weights.size() == 4);
+      for (const auto& w : a.methods[m].fold_weights) {
+        double sum = 0;
+        for (double x : w) sum += x;
+        CHECK(sum == doctest::Approx(1.0));
+      }
+    } else {
+      CHECK(a.methods[m].fold_weights[0].empty());
+    }
+  }
+  // On these easy objects the fused methods recognise nearly everything at 8 touches.
+  CHECK(a.methods[9].rate(2) > 0.9);
+  // Weight sweeps exist for every fitted method and count every test.
+  CHECK(a.sweeps.size() == 4);  // icp+bow, iclap+icp, iclap+bow, iclap+icp+bow
+  for (const auto& sw : a.sweeps) {
+    CHECK(sw.correct.size() == sw.grid.size());
+    CHECK(sw.total[0] == 48);
+  }
+}
+
+TEST_CASE("cross validation refuses what it cannot do") {
+  TouchTable t = synthetic_table(5);
+  // A method that needs a classifier the factory does not make.
+  auto only_bow = [] {
+    std::vector<std::unique_ptr<Classifier>> cs;
+    cs.push_back(std::make_unique<BowClassifier>());
+    return cs;
+  };
+  CHECK_THROWS_WITH_AS(CrossValidation<>(t, only_bow, codebook(4), {parse_method("icp+bow")}),
+                       "methods: method 'icp+bow' needs classifier 'icp', which is not among the classifiers (bow)",
+                       InvalidArgument);
+  // An object with one exploration cannot be cross-validated.
+  for (std::size_t i = 0; i < t.object.size(); ++i)
+    if (t.object[i] == 1) t.exploration[i] = 10;
+  CHECK_THROWS_WITH_AS(CrossValidation<>(t, only_bow, codebook(4), {parse_method("bow")}),
+                       "table: object 'ring' has 1 exploration(s) with touches; cross validation needs at least 2",
+                       InvalidArgument);
+  CrossValidationSettings s;
+  s.touches = {0};
+  CHECK_THROWS_AS(CrossValidation<>(synthetic_table(5), only_bow, codebook(4), {parse_method("bow")}, s),
+                  InvalidArgument);
+}
