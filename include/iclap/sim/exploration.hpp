@@ -1,0 +1,422 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// One haptic exploration of one object: the paper's uninformed strategy
+// (Section V) played by a simulated operator on a simulated Phantom Omni.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "iclap/core/error.hpp"
+#include "iclap/core/random.hpp"
+#include "iclap/data/dataset.hpp"
+#include "iclap/sim/objects.hpp"
+#include "iclap/sim/sensor.hpp"
+
+namespace iclap {
+
+/// The arm that carries the pad and reports its pose (a Phantom Omni).
+struct ArmSettings {
+  /// Reported positions are multiples of this, m (the Omni's nominal
+  /// position resolution, about 0.055 mm; paper, Section V).
+  double position_resolution = 0.055e-3;
+  /// Standard deviation of the tracking error per axis, m, added before
+  /// quantisation (encoder and linkage error; an assumption).
+  double position_noise = 0.1e-3;
+  /// Standard deviation of the reported orientation's error, rad.
+  double orientation_noise = 0.3 * 3.14159265358979323846 / 180.0;
+
+  void validate() const {
+    if (!(position_resolution >= 0)) throw InvalidArgument("arm.position_resolution", "must be >= 0");
+    if (!(position_noise >= 0)) throw InvalidArgument("arm.position_noise", "must be >= 0");
+    if (!(orientation_noise >= 0)) throw InvalidArgument("arm.orientation_noise", "must be >= 0");
+  }
+};
+
+/// How the simulated operator explores (README, "Simulator"). Speeds and
+/// rates follow the paper (5 mm/s, 5 frames/s, pad normal to the surface,
+/// five explorations per object, about 85 frames each); the jitter terms
+/// describe a human hand and are assumptions, not fitted values.
+struct ExplorationSettings {
+  double frame_rate = 5.0;           ///< sensor frames per second (paper: 5)
+  double sweep_speed = 5e-3;         ///< pad speed along the surface, m/s (paper: about 5 mm/s)
+  double speed_jitter = 0.15;        ///< relative standard deviation of the speed, per frame
+  double heading_jitter = 3.0 * 3.14159265358979323846 / 180.0;  ///< sweep direction wander per frame, rad
+  double approach_speed = 10e-3;     ///< lowering and lifting along the pad normal, m/s
+  double air_speed = 30e-3;          ///< moving to the next sweep through the air, m/s
+  double clearance = 3e-3;           ///< hover distance before a touch and after a lift, m
+  double sweep_length_min = 30e-3;   ///< each sweep's planned length is uniform in [min, max], m
+  double sweep_length_max = 80e-3;
+  double force_min = 2.0;            ///< each sweep's pressing force is uniform in [min, max], N
+  double force_max = 5.0;
+  double force_jitter = 0.1;         ///< relative standard deviation of the force, per frame
+  /// Fraction of the angle between the pad normal and the surface normal
+  /// under it that the operator corrects per frame (keeps the pad normal to
+  /// the surface, smoothly).
+  double normal_follow = 0.5;
+  /// The operator follows the surface down by at most this per frame, m;
+  /// a larger drop (running off an edge) ends the sweep.
+  double follow_drop = 10e-3;
+  double table_clearance = 1e-3;     ///< pad corners stay this far above the table, m
+  double max_frames_mean = 85;       ///< mean frames per exploration (paper: 8492 / 100)
+  double frames_spread = 0.15;       ///< frames per exploration uniform in mean x (1 +- spread)
+  /// The object is put down again before each exploration: a planar shift
+  /// uniform in a disc of this radius (m) and a yaw uniform in +-
+  /// placement_yaw (rad). Zero keeps it in place.
+  double placement_shift = 10e-3;
+  double placement_yaw = 10.0 * 3.14159265358979323846 / 180.0;
+
+  void validate() const {
+    auto positive = [](double v, const char* name) {
+      if (!(v > 0) || !std::isfinite(v)) throw InvalidArgument(name, "must be positive, got " + std::to_string(v));
+    };
+    auto non_negative = [](double v, const char* name) {
+      if (!(v >= 0) || !std::isfinite(v)) throw InvalidArgument(name, "must be >= 0, got " + std::to_string(v));
+    };
+    positive(frame_rate, "exploration.frame_rate");
+    positive(sweep_speed, "exploration.sweep_speed");
+    non_negative(speed_jitter, "exploration.speed_jitter");
+    non_negative(heading_jitter, "exploration.heading_jitter");
+    positive(approach_speed, "exploration.approach_speed");
+    positive(air_speed, "exploration.air_speed");
+    positive(clearance, "exploration.clearance");
+    positive(sweep_length_min, "exploration.sweep_length_min");
+    if (!(sweep_length_max >= sweep_length_min))
+      throw InvalidArgument("exploration.sweep_length_max", "must be >= sweep_length_min");
+    positive(force_min, "exploration.force_min");
+    if (!(force_max >= force_min)) throw InvalidArgument("exploration.force_max", "must be >= force_min");
+    non_negative(force_jitter, "exploration.force_jitter");
+    if (!(normal_follow > 0 && normal_follow <= 1)) throw InvalidArgument("exploration.normal_follow", "must be in (0, 1]");
+    positive(follow_drop, "exploration.follow_drop");
+    non_negative(table_clearance, "exploration.table_clearance");
+    if (!(max_frames_mean >= 1)) throw InvalidArgument("exploration.max_frames_mean", "must be >= 1");
+    if (!(frames_spread >= 0 && frames_spread < 1)) throw InvalidArgument("exploration.frames_spread", "must be in [0, 1)");
+    non_negative(placement_shift, "exploration.placement_shift");
+    non_negative(placement_yaw, "exploration.placement_yaw");
+  }
+};
+
+namespace detail {
+
+/// A random unit vector orthogonal to the unit vector `n`.
+inline Eigen::Vector3d random_tangent(const Eigen::Vector3d& n, Rng& rng) {
+  const Eigen::Vector3d u = n.unitOrthogonal(), w = n.cross(u);
+  const double a = rng.uniform(0, 2 * kPi);
+  return std::cos(a) * u + std::sin(a) * w;
+}
+
+/// Lowest z of the pad outline (its four corners) at `pose`.
+inline double pad_lowest_z(const PadPose& pose, const TactileSensorSettings& s) {
+  const Eigen::Vector3d hx = pose.axes.col(0) * (s.pad_length / 2), hy = pose.axes.col(1) * (s.pad_width / 2);
+  return pose.centre.z() - std::abs(hx.z()) - std::abs(hy.z());
+}
+
+/// Axes with the given pad x direction and pressing direction ez.
+inline Eigen::Matrix3d pad_axes(const Eigen::Vector3d& ex, const Eigen::Vector3d& ez) {
+  Eigen::Matrix3d a;
+  const Eigen::Vector3d x = (ex - ex.dot(ez) * ez).normalized();
+  a.col(0) = x;
+  a.col(1) = ez.cross(x);
+  a.col(2) = ez;
+  return a;
+}
+
+/// One exploration, state and all: see simulate_exploration.
+class Explorer {
+ public:
+  Explorer(const SimObject& object, const TactileSensorModel& sensor, const ArmSettings& arm,
+           const ExplorationSettings& ex, Rng& rng)
+      : obj_(object), sensor_(sensor), arm_(arm), ex_(ex), rng_(rng), dt_(1.0 / ex.frame_rate) {
+    // Reachable surface: triangles not facing down, sampled by area.
+    const TriangleMesh& m = obj_.shape.mesh();
+    double total = 0;
+    for (Index t = 0; t < m.triangle_count(); ++t) {
+      const Eigen::Vector3d an = m.area_normal(t);
+      const double a = 0.5 * an.norm();
+      if (a > 0 && an.z() / (2 * a) >= -0.1) {
+        total += a;
+        cdf_.push_back(total);
+        tris_.push_back(t);
+      }
+    }
+    top_z_ = obj_.shape.bounds().max().z();
+  }
+
+  std::vector<Frame> run(std::int64_t exploration, std::size_t frames) {
+    // Where the object was put down this time (world <- object).
+    const double r = ex_.placement_shift * std::sqrt(rng_.uniform());
+    const double phi = rng_.uniform(0, 2 * kPi);
+    const double yaw = rng_.uniform(-1.0, 1.0) * ex_.placement_yaw;
+    T_world_obj_ = Eigen::Isometry3d::Identity();
+    T_world_obj_.translate(Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), 0));
+    T_world_obj_.rotate(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
+
+    std::vector<Frame> out;
+    out.reserve(frames);
+    plan_sweep();
+    pose_ = hover_pose();
+    // Start out of contact: rise until nothing touches.
+    for (int i = 0; i < 40 && touches(pose_); ++i) pose_.centre -= 1e-3 * pose_.axes.col(2);
+    mode_ = Mode::approach;
+    travelled_ = 0;
+    for (std::size_t k = 0; k < frames; ++k) {
+      if (k > 0) step();
+      else reading_ = read(pose_, 0.0);
+      out.push_back(record(exploration, static_cast<std::int64_t>(k)));
+    }
+    return out;
+  }
+
+ private:
+  enum class Mode { approach, sweep, lift, travel };
+
+  bool touches(const PadPose& p) {
+    sensor_.probe(obj_.shape, p, contact_);
+    return contact_.max_depth > 0;
+  }
+
+  // Reading at `p` moved by `shift` along its z; probes first.
+  Eigen::MatrixXd read(const PadPose& p, double shift) {
+    sensor_.probe(obj_.shape, p, contact_);
+    return sensor_.render(contact_, shift, &rng_);
+  }
+
+  // Chooses the next sweep: a start point on the reachable surface where the
+  // pad fits above the table, a pad yaw and a direction.
+  void plan_sweep() {
+    const TactileSensorSettings& s = sensor_.settings();
+    for (int attempt = 0; attempt < 200 && !cdf_.empty(); ++attempt) {
+      const double u = rng_.uniform(0, cdf_.back());
+      const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
+      const Index t = tris_[static_cast<std::size_t>(std::min<std::ptrdiff_t>(it - cdf_.begin(), static_cast<std::ptrdiff_t>(tris_.size()) - 1))];
+      const TriangleMesh& m = obj_.shape.mesh();
+      double a = rng_.uniform(), b = rng_.uniform();
+      if (a + b > 1) {
+        a = 1 - a;
+        b = 1 - b;
+      }
+      const Eigen::Vector3d p = m.corner(t, 0) + a * (m.corner(t, 1) - m.corner(t, 0)) + b * (m.corner(t, 2) - m.corner(t, 0));
+      const Eigen::Vector3d n = m.area_normal(t).normalized();
+      // Exposed: seen from outside along its normal (not inside another
+      // shell of the union, not under an overhang).
+      const auto hit = obj_.shape.intersect(p + 0.05 * n, -n, 0.06, RaySide::front);
+      if (!hit || std::abs(hit->t - 0.05) > 1e-5) continue;
+      const Eigen::Vector3d ez = -n;
+      PadPose pose;
+      pose.centre = p;
+      pose.axes = pad_axes(random_tangent(ez, rng_), ez);
+      if (pad_lowest_z(pose, s) < ex_.table_clearance) {
+        // Try the long side level with the table.
+        const Eigen::Vector3d level = ez.cross(Eigen::Vector3d::UnitZ());
+        if (level.norm() < 1e-6) continue;
+        pose.axes = pad_axes(level.normalized(), ez);
+        if (pad_lowest_z(pose, s) < ex_.table_clearance) continue;
+      }
+      start_ = pose;
+      direction_ = random_tangent(ez, rng_);
+      sweep_length_ = rng_.uniform(ex_.sweep_length_min, ex_.sweep_length_max);
+      force_ = rng_.uniform(ex_.force_min, ex_.force_max);
+      return;
+    }
+    // Fallback: straight down onto the highest point.
+    const TriangleMesh& m = obj_.shape.mesh();
+    Index top = 0;
+    m.vertices.row(2).maxCoeff(&top);
+    start_.centre = m.vertices.col(top);
+    start_.axes = pad_axes(Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitZ());
+    direction_ = Eigen::Vector3d::UnitX();
+    sweep_length_ = ex_.sweep_length_min;
+    force_ = ex_.force_min;
+  }
+
+  PadPose hover_pose() const {
+    PadPose p = start_;
+    p.centre -= ex_.clearance * p.axes.col(2);
+    return p;
+  }
+
+  // Travel path to the next sweep's hover pose: up above the object, across, down.
+  void start_travel() {
+    plan_sweep();
+    const PadPose goal = hover_pose();
+    const double safe = std::max({top_z_ + 0.02, pose_.centre.z(), goal.centre.z()});
+    path_ = {pose_.centre, Eigen::Vector3d(pose_.centre.x(), pose_.centre.y(), safe),
+             Eigen::Vector3d(goal.centre.x(), goal.centre.y(), safe), goal.centre};
+    path_length_ = 0;
+    for (std::size_t i = 1; i < path_.size(); ++i) path_length_ += (path_[i] - path_[i - 1]).norm();
+    q_from_ = Eigen::Quaterniond(pose_.axes);
+    q_to_ = Eigen::Quaterniond(goal.axes);
+    travelled_ = 0;
+    mode_ = Mode::travel;
+  }
+
+  Eigen::Vector3d along_path(double s) const {
+    for (std::size_t i = 1; i < path_.size(); ++i) {
+      const double len = (path_[i] - path_[i - 1]).norm();
+      if (s <= len && len > 0) return path_[i - 1] + (s / len) * (path_[i] - path_[i - 1]);
+      s -= len;
+    }
+    return path_.back();
+  }
+
+  void start_lift() {
+    mode_ = Mode::lift;
+    travelled_ = 0;
+  }
+
+  // Rotates the pad about its centre so its z turns towards `target_z` by
+  // the follow fraction (minimal rotation: the pad does not spin).
+  void follow_normal(const Eigen::Vector3d& target_z) {
+    const Eigen::Vector3d ez = pose_.axes.col(2);
+    Eigen::Vector3d goal = ez + ex_.normal_follow * (target_z - ez);
+    if (goal.norm() < 1e-9) return;
+    goal.normalize();
+    const Eigen::Matrix3d R = Eigen::Quaterniond::FromTwoVectors(ez, goal).toRotationMatrix();
+    pose_.axes = R * pose_.axes;
+    direction_ = R * direction_;
+  }
+
+  // Advances one frame period and takes the reading.
+  void step() {
+    const double dt = dt_;
+    const TactileSensorSettings& s = sensor_.settings();
+    switch (mode_) {
+      case Mode::approach: {
+        const double d = ex_.approach_speed * dt;
+        pose_.centre += d * pose_.axes.col(2);
+        travelled_ += d;
+        sensor_.probe(obj_.shape, pose_, contact_);
+        const double target = force_ * jitter(ex_.force_jitter);
+        double shift = 0;
+        if (contact_.any_surface() && sensor_.force(contact_, 0.0) >= target) {
+          // Touched: the operator settles at the intended force.
+          shift = sensor_.balance(contact_, target);
+          pose_.centre += shift * pose_.axes.col(2);
+          last_normal_ = sensor_.contact_normal(contact_, shift);
+          mode_ = Mode::sweep;
+          travelled_ = 0;
+        } else if (travelled_ > ex_.clearance + 0.02) {
+          start_lift();  // nothing there after all
+        }
+        reading_ = sensor_.render(contact_, shift, &rng_);
+        return;
+      }
+      case Mode::sweep: {
+        const PadPose before = pose_;
+        const Eigen::Vector3d before_dir = direction_;
+        if (last_normal_.squaredNorm() > 0) follow_normal(-last_normal_);
+        // Wander the heading, then move along the surface.
+        const Eigen::Vector3d ez = pose_.axes.col(2);
+        direction_ = Eigen::AngleAxisd(ex_.heading_jitter * rng_.normal(), ez) * direction_;
+        direction_ = (direction_ - direction_.dot(ez) * ez).normalized();
+        const double d = std::max(0.0, ex_.sweep_speed * dt * jitter(ex_.speed_jitter));
+        pose_.centre += d * direction_;
+        travelled_ += d;
+        sensor_.probe(obj_.shape, pose_, contact_);
+        const double target = force_ * jitter(ex_.force_jitter);
+        if (!contact_.any_surface() || contact_.max_depth < -ex_.follow_drop) {
+          reading_ = sensor_.render(contact_, 0.0, &rng_);  // ran off: nothing under the pad
+          start_lift();
+          return;
+        }
+        const double shift = sensor_.balance(contact_, target);
+        PadPose pressed = pose_;
+        pressed.centre += shift * pose_.axes.col(2);
+        if (pad_lowest_z(pressed, s) < ex_.table_clearance || pressed.axes(2, 2) > 0.3) {
+          // The pad would hit the table or press upwards: stop here.
+          pose_ = before;
+          direction_ = before_dir;
+          reading_ = read(pose_, 0.0);
+          start_lift();
+          return;
+        }
+        pose_ = pressed;
+        reading_ = sensor_.render(contact_, shift, &rng_);
+        last_normal_ = sensor_.contact_normal(contact_, shift);
+        if (travelled_ >= sweep_length_) start_lift();
+        return;
+      }
+      case Mode::lift: {
+        const double d = ex_.approach_speed * dt;
+        pose_.centre -= d * pose_.axes.col(2);
+        travelled_ += d;
+        reading_ = read(pose_, 0.0);
+        if (travelled_ >= ex_.clearance) start_travel();
+        return;
+      }
+      case Mode::travel: {
+        travelled_ = std::min(path_length_, travelled_ + ex_.air_speed * dt);
+        const double f = path_length_ > 0 ? travelled_ / path_length_ : 1.0;
+        pose_.centre = along_path(travelled_);
+        pose_.axes = q_from_.slerp(f, q_to_).toRotationMatrix();
+        reading_ = read(pose_, 0.0);
+        if (travelled_ >= path_length_) {
+          pose_ = hover_pose();
+          mode_ = Mode::approach;
+          travelled_ = 0;
+        }
+        return;
+      }
+    }
+  }
+
+  // Every random draw happens whatever the settings, so that switching one
+  // effect off does not change the others.
+  double jitter(double rel) { return std::max(0.0, 1.0 + rel * rng_.normal()); }
+
+  Frame record(std::int64_t exploration, std::int64_t k) {
+    Frame f;
+    f.object = obj_.name;
+    f.exploration = exploration;
+    f.frame = k;
+    f.time = static_cast<double>(k) / ex_.frame_rate;
+    Eigen::Vector3d p = T_world_obj_ * pose_.centre;
+    for (int i = 0; i < 3; ++i) {
+      p[i] += arm_.position_noise * rng_.normal();
+      if (arm_.position_resolution > 0)
+        p[i] = std::round(p[i] / arm_.position_resolution) * arm_.position_resolution;
+    }
+    f.position = p;
+    Eigen::Quaterniond q(T_world_obj_.linear() * pose_.axes);
+    const Eigen::Vector3d axis(rng_.normal(), rng_.normal(), rng_.normal());
+    const double angle = arm_.orientation_noise * rng_.normal();
+    if (axis.norm() > 0 && angle != 0) q = Eigen::AngleAxisd(angle, axis.normalized()) * q;
+    q.normalize();
+    if (q.w() < 0) q.coeffs() *= -1;
+    f.orientation = q;
+    f.pressures = reading_;
+    return f;
+  }
+
+  const SimObject& obj_;
+  const TactileSensorModel& sensor_;
+  const ArmSettings& arm_;
+  const ExplorationSettings& ex_;
+  Rng& rng_;
+  double dt_;
+  std::vector<double> cdf_;
+  std::vector<Index> tris_;
+  double top_z_ = 0;
+  Eigen::Isometry3d T_world_obj_ = Eigen::Isometry3d::Identity();
+
+  Mode mode_ = Mode::approach;
+  PadPose pose_, start_;
+  Eigen::Vector3d direction_ = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d last_normal_ = Eigen::Vector3d::Zero();
+  double sweep_length_ = 0, force_ = 0, travelled_ = 0;
+  std::vector<Eigen::Vector3d> path_;
+  double path_length_ = 0;
+  Eigen::Quaterniond q_from_, q_to_;
+  PadContact contact_;
+  Eigen::MatrixXd reading_;
+};
+
+}  // namespace detail
+
+}  // namespace iclap

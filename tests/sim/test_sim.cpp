@@ -1,0 +1,344 @@
+// SPDX-License-Identifier: MIT
+// Rig simulator: sensor physics on simple shapes, exploration invariants,
+// determinism, objects from mesh folders.
+
+#include <doctest/doctest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "iclap/data/csv_writer.hpp"
+#include "iclap/mesh/primitives.hpp"
+#include "iclap/sim/sim.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kPi = 3.14159265358979323846;
+
+iclap::TactileSensorSettings quiet_sensor() {
+  iclap::TactileSensorSettings s;
+  s.noise_sigma = 0;
+  s.dead_band = 0;
+  return s;
+}
+
+// Pad pressing straight down (pad z = -world z), long side along world x
+// (or along y when `turned`).
+iclap::PadPose pad_down(const Eigen::Vector3d& centre, bool turned = false) {
+  iclap::PadPose p;
+  p.centre = centre;
+  const Eigen::Vector3d ez(0, 0, -1);
+  const Eigen::Vector3d ex = turned ? Eigen::Vector3d(0, 1, 0) : Eigen::Vector3d(1, 0, 0);
+  p.axes.col(0) = ex;
+  p.axes.col(1) = ez.cross(ex);
+  p.axes.col(2) = ez;
+  return p;
+}
+
+Eigen::MatrixXd press(const iclap::MeshBvh& shape, const iclap::PadPose& pose, double force,
+                      const iclap::TactileSensorModel& sensor, iclap::Rng* noise = nullptr) {
+  iclap::PadContact c;
+  sensor.probe(shape, pose, c);
+  if (!c.any_surface()) return sensor.render(c, 0.0, noise);
+  const double shift = sensor.balance(c, force);
+  CHECK(sensor.force(c, shift) == doctest::Approx(force).epsilon(1e-6));
+  return sensor.render(c, shift, noise);
+}
+
+std::string csv_bytes(const iclap::Dataset& ds) {
+  std::ostringstream out;
+  iclap::write_dataset_csv(out, ds);
+  return out.str();
+}
+
+std::vector<iclap::SimObject> some_builtins() {
+  return {iclap::builtin_object("pliers_1"), iclap::builtin_object("wooden_cuboid_1"),
+          iclap::builtin_object("fixed_wrench_2")};
+}
+
+}  // namespace
+
+TEST_CASE("sensor: a flat plate gives a uniform patch at the expected pressure") {
+  const iclap::TactileSensorModel sensor(quiet_sensor());
+  const iclap::MeshBvh plate(iclap::transformed(iclap::make_box({0.2, 0.1, 0.02}),
+                                                Eigen::Affine3d(Eigen::Translation3d(0, 0, 0.01))));
+  for (double force : {1.0, 3.0, 8.0}) {
+    const Eigen::MatrixXd p = press(plate, pad_down({0.003, -0.002, 0.025}), force, sensor);
+    REQUIRE(p.rows() == 14);
+    REQUIRE(p.cols() == 6);
+    // Uniform: every taxel reads the same (up to the integer rounding).
+    CHECK(p.maxCoeff() - p.minCoeff() <= 1.0);
+    // Pressure = force / pad area, scaled to raw units.
+    const auto& s = sensor.settings();
+    const double pad_area = static_cast<double>(sensor.sample_count()) * sensor.sample_area();
+    CHECK(pad_area == doctest::Approx(s.pad_length * s.pad_width).epsilon(0.1));
+    const double expected = force / pad_area / s.full_scale_pressure * s.max_raw;
+    CHECK(std::abs(p.mean() - expected) <= 0.5);  // integer readings
+  }
+}
+
+TEST_CASE("sensor: an edge gives a line along it") {
+  const iclap::TactileSensorModel sensor(quiet_sensor());
+  // A square bar with one edge up along world x, the edge at z = 0.02.
+  Eigen::Affine3d T = Eigen::Affine3d::Identity();
+  T.translate(Eigen::Vector3d(0, 0, 0.02 - 0.01 * std::sqrt(2.0)));
+  T.rotate(Eigen::AngleAxisd(kPi / 4, Eigen::Vector3d::UnitX()));
+  const iclap::MeshBvh ridge(iclap::transformed(iclap::make_box({0.3, 0.02, 0.02}), T));
+
+  // Edge along the pad's long side: the two middle columns (2, 3) carry it,
+  // the same in every row.
+  const Eigen::MatrixXd along = press(ridge, pad_down({0, 0, 0.021}), 3.0, sensor);
+  const double middle = along.col(2).sum() + along.col(3).sum();
+  CHECK(middle > 0.9 * along.sum());
+  CHECK(along.col(0).maxCoeff() == 0);
+  CHECK(along.col(5).maxCoeff() == 0);
+  CHECK(along.col(2).maxCoeff() - along.col(2).minCoeff() <= 1.0);
+  CHECK(std::abs(along(7, 2) - along(7, 3)) <= 1.0);
+  // The same force on 2 of the 6 columns: about 3 times the flat reading.
+  CHECK(along.maxCoeff() > 2.5 * 3.0 / (0.051 * 0.024) / 250e3 * 4095);
+
+  // Edge across the pad: the two middle rows (6, 7) carry it.
+  const Eigen::MatrixXd across = press(ridge, pad_down({0, 0, 0.021}, true), 3.0, sensor);
+  CHECK(across.row(6).sum() + across.row(7).sum() > 0.9 * across.sum());
+  CHECK(across.row(0).maxCoeff() == 0);
+  CHECK(across.row(13).maxCoeff() == 0);
+  CHECK(across.row(6).maxCoeff() - across.row(6).minCoeff() <= 1.0);
+}
+
+TEST_CASE("sensor: no contact gives an empty frame; a point saturates") {
+  const iclap::MeshBvh plate(iclap::transformed(iclap::make_box({0.2, 0.1, 0.02}),
+                                                Eigen::Affine3d(Eigen::Translation3d(0, 0, 0.01))));
+  const iclap::TactileSensorModel quiet(quiet_sensor());
+  iclap::PadContact c;
+  quiet.probe(plate, pad_down({0, 0, 0.025}), c);
+  CHECK(c.any_surface());
+  CHECK(c.max_depth == doctest::Approx(-0.005));
+  CHECK(quiet.render(c, 0.0, nullptr).maxCoeff() == 0);
+  // With the default read noise the frame stays below the contact threshold.
+  const iclap::TactileSensorModel noisy;
+  iclap::Rng rng(1);
+  for (int i = 0; i < 50; ++i) CHECK(noisy.render(c, 0.0, &rng).maxCoeff() <= iclap::kDefaultContactThreshold);
+  // Nothing in reach at all.
+  noisy.probe(plate, pad_down({0, 0, 0.2}), c);
+  CHECK_FALSE(c.any_surface());
+  CHECK(std::isnan(noisy.balance(c, 3.0)));
+
+  // A cone tip pressed with 5 N: one spot, saturated at 4095.
+  const iclap::MeshBvh cone(iclap::make_frustum(0.01, 0.0, 0.02, 32));
+  const Eigen::MatrixXd p = press(cone, pad_down({0.0017, 0.0017, 0.021}), 5.0, quiet);
+  CHECK(p.maxCoeff() == 4095);
+  CHECK((p.array() > 0).count() < 12);
+  CHECK_THROWS_AS(iclap::TactileSensorModel([] {
+                    iclap::TactileSensorSettings s;
+                    s.pad_width = 0.01;
+                    return s;
+                  }()),
+                  iclap::InvalidArgument);
+}
+
+TEST_CASE("built-in objects: 20 stable names, resting on the table, tool-sized") {
+  const auto names = iclap::builtin_object_names();
+  REQUIRE(names.size() == 20);
+  CHECK(std::set<std::string>(names.begin(), names.end()).size() == 20);
+  const auto objects = iclap::builtin_objects();
+  REQUIRE(objects.size() == 20);
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    CAPTURE(names[i]);
+    CHECK(objects[i].name == names[i]);
+    const auto b = objects[i].shape.bounds();
+    CHECK(std::abs(b.min().z()) < 1e-12);
+    CHECK(std::abs(b.center().x()) < 1e-12);
+    CHECK(std::abs(b.center().y()) < 1e-12);
+    CHECK(b.sizes().maxCoeff() > 0.05);
+    CHECK(b.sizes().maxCoeff() < 0.35);
+    CHECK(iclap::signed_volume(objects[i].shape.mesh()) > 0);
+  }
+  auto length = [](const iclap::SimObject& o) { return o.shape.bounds().sizes().x(); };
+  // Same heads, different lengths; same frame, different jaws.
+  CHECK(length(iclap::builtin_object("fixed_wrench_2")) - length(iclap::builtin_object("fixed_wrench_1")) > 0.05);
+  CHECK(std::abs(length(iclap::builtin_object("pliers_1")) - length(iclap::builtin_object("pliers_2"))) < 0.015);
+  CHECK_THROWS_AS(iclap::builtin_object("spoon"), iclap::InvalidArgument);
+}
+
+TEST_CASE("exploration: frames, timing, quantisation, start without contact") {
+  iclap::SimulationSettings s;
+  const auto obj = iclap::builtin_object("wooden_cuboid_2");
+  std::size_t contacts = 0, total = 0;
+  for (int e = 0; e < 3; ++e) {
+    const auto frames = iclap::simulate_exploration(obj, s, 9, e);
+    CHECK(frames.size() >= 72);
+    CHECK(frames.size() <= 98);
+    REQUIRE_FALSE(frames.empty());
+    CHECK_FALSE(iclap::is_contact(frames.front()));
+    CHECK(frames.front().pressures.maxCoeff() == 0);
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      const auto& f = frames[k];
+      CHECK(f.object == "wooden_cuboid_2");
+      CHECK(f.exploration == e);
+      CHECK(f.frame == static_cast<std::int64_t>(k));
+      REQUIRE(f.time.has_value());
+      CHECK(*f.time == static_cast<double>(k) / 5.0);
+      REQUIRE(f.orientation.has_value());
+      CHECK(f.orientation->norm() == doctest::Approx(1.0));
+      for (int i = 0; i < 3; ++i) {
+        const double q = f.position[i] / s.arm.position_resolution;
+        CHECK(std::abs(q - std::round(q)) < 1e-6);
+      }
+      CHECK(f.pressures.minCoeff() >= 0);
+      CHECK(f.pressures.maxCoeff() <= 4095);
+      CHECK((f.pressures.array() == f.pressures.array().round()).all());
+      if (iclap::is_contact(f)) ++contacts;
+      ++total;
+    }
+  }
+  // Most of the time is spent sweeping over the surface.
+  CHECK(contacts > total / 3);
+}
+
+TEST_CASE("exploration: contacts happen where the surface is, pad normal into it") {
+  iclap::SimulationSettings s;
+  s.arm.position_noise = 0;
+  s.arm.orientation_noise = 0;
+  s.arm.position_resolution = 0;
+  s.exploration.placement_shift = 0;
+  s.exploration.placement_yaw = 0;
+  for (const auto& obj : some_builtins()) {
+    CAPTURE(obj.name);
+    std::size_t checked = 0;
+    for (int e = 0; e < 2; ++e)
+      for (const auto& f : iclap::simulate_exploration(obj, s, 4, e)) {
+        if (!iclap::is_contact(f)) continue;
+        ++checked;
+        const Eigen::Vector3d ez = f.orientation->toRotationMatrix().col(2);
+        // The surface under the pad is within the foam's reach.
+        const auto c = obj.shape.closest_point(f.position);
+        CHECK(std::sqrt(c.squared_distance) < 0.03);  // within the pad's half-diagonal
+        const auto hit = obj.shape.intersect(f.position - 0.02 * ez, ez, 0.04, iclap::RaySide::front);
+        if (hit) CHECK(hit->t > 0.02 - s.sensor.foam_thickness - 1e-9);  // never deeper than the foam
+        // The pad stays above the table.
+        CHECK(iclap::detail::pad_lowest_z({f.position, f.orientation->toRotationMatrix()}, s.sensor) >=
+              s.exploration.table_clearance - 1e-9);
+      }
+    CHECK(checked > 50);
+  }
+}
+
+TEST_CASE("simulator: same seed same bytes, different seed differs, threads and order do not matter") {
+  iclap::SimulationSettings s;
+  s.explorations = 2;
+  const auto objects = some_builtins();
+  const std::string a = csv_bytes(iclap::simulate_dataset(objects, s, 42));
+  const std::string b = csv_bytes(iclap::simulate_dataset(objects, s, 42));
+  CHECK(a == b);
+  CHECK(a != csv_bytes(iclap::simulate_dataset(objects, s, 43)));
+  s.threads = 3;
+  CHECK(a == csv_bytes(iclap::simulate_dataset(objects, s, 42)));
+  // An object's frames depend on its name, not its place in the list.
+  const auto reordered = iclap::simulate_dataset({objects[2], objects[0]}, s, 42);
+  const auto original = iclap::simulate_dataset(objects, s, 42);
+  std::vector<iclap::Frame> x, y;
+  for (const auto& f : original.frames)
+    if (f.object == "pliers_1") x.push_back(f);
+  for (const auto& f : reordered.frames)
+    if (f.object == "pliers_1") y.push_back(f);
+  REQUIRE(x.size() == y.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    CHECK(x[i].position == y[i].position);
+    CHECK(x[i].pressures == y[i].pressures);
+  }
+  // Structure and comments.
+  CHECK(original.rows == 14);
+  CHECK(original.cols == 6);
+  CHECK(iclap::object_names(original) == std::vector<std::string>{"pliers_1", "wooden_cuboid_1", "fixed_wrench_2"});
+  CHECK(iclap::explorations_of(original, "fixed_wrench_2") == std::vector<std::int64_t>{0, 1});
+  REQUIRE(original.comments.size() == 3);
+  CHECK(original.comments[0] == "sensor: WTS 0614-34A (simulated) rows=14 cols=6 pitch_m=0.0034");
+  CHECK(original.comments[2].find("seed=42") != std::string::npos);
+  // Bad input.
+  CHECK_THROWS_AS(iclap::simulate_dataset({}, s, 1), iclap::EmptyInput);
+  CHECK_THROWS_AS(iclap::simulate_dataset({objects[0], objects[0]}, s, 1), iclap::InvalidArgument);
+  s.explorations = 0;
+  CHECK_THROWS_AS(iclap::simulate_dataset(objects, s, 1), iclap::InvalidArgument);
+}
+
+TEST_CASE("simulator: the object is re-placed between explorations (configurable, zero allowed)") {
+  iclap::SimulationSettings s;
+  s.arm.position_noise = 0;
+  const auto obj = iclap::builtin_object("wooden_cuboid_3");
+  // Same exploration stream, with and without re-placement: the same motion
+  // in the object frame, moved by a planar rigid transform in the world.
+  const auto moved = iclap::simulate_exploration(obj, s, 5, 1);
+  s.exploration.placement_shift = 0;
+  s.exploration.placement_yaw = 0;
+  const auto still = iclap::simulate_exploration(obj, s, 5, 1);
+  REQUIRE(moved.size() == still.size());
+  double max_dz = 0, max_dxy = 0;
+  for (std::size_t i = 0; i < moved.size(); ++i) {
+    max_dz = std::max(max_dz, std::abs(moved[i].position.z() - still[i].position.z()));
+    max_dxy = std::max(max_dxy, (moved[i].position - still[i].position).head<2>().norm());
+  }
+  CHECK(max_dz < 1e-4);   // quantisation only
+  CHECK(max_dxy > 1e-4);  // shifted and turned
+  CHECK(max_dxy < 0.04);  // by a small amount
+}
+
+TEST_CASE("mesh objects: folder with meshes.json, explicit units, errors") {
+  const std::string dir = std::string(ICLAP_TEST_FIXTURES) + "/mesh/objects";
+  const auto objects = iclap::load_mesh_objects(dir);
+  REQUIRE(objects.size() == 2);
+  CHECK(objects[0].name == "block");
+  CHECK(objects[1].name == "wedge");
+  // The tilted block lies on its largest face: 60 x 40 x 30 mm.
+  CHECK(objects[0].shape.bounds().sizes().isApprox(Eigen::Vector3d(0.06, 0.04, 0.03), 1e-6));
+  CHECK(std::abs(objects[0].shape.bounds().min().z()) < 1e-12);
+  // The wedge (80 x 30 x 20 mm right prism, millimetres) rests on its slope:
+  // the largest face (85.4 x 20 mm) and the lowest centre of mass (9.4 mm).
+  CHECK(objects[1].shape.bounds().sizes().isApprox(Eigen::Vector3d(0.08544, 0.02, 0.02809), 1e-3));
+
+  // Explicit unit for every file: the block would be 1000 times larger in mm.
+  const auto as_mm = iclap::load_mesh_objects(dir, iclap::LengthUnit::millimetres);
+  CHECK(as_mm[0].shape.bounds().sizes().maxCoeff() == doctest::Approx(0.06e-3));
+
+  // Automatic units without a manifest, a file missing from it, duplicate stems.
+  const fs::path tmp = fs::temp_directory_path() / ("iclap_test_sim_" + std::to_string(static_cast<long>(::getpid())));
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  fs::copy_file(dir + "/block.obj", tmp / "block.obj");
+  CHECK_THROWS_WITH_AS(iclap::load_mesh_objects(tmp.string()), doctest::Contains("meshes.json"), iclap::InvalidArgument);
+  std::ofstream(tmp / "meshes.json") << "[{\"file\": \"other.obj\", \"scale_to_metres\": 1}]";
+  CHECK_THROWS_WITH_AS(iclap::load_mesh_objects(tmp.string()), doctest::Contains("block.obj is not listed"),
+                       iclap::InvalidArgument);
+  fs::copy_file(dir + "/wedge.ply", tmp / "block.ply");
+  CHECK_THROWS_WITH_AS(iclap::load_mesh_objects(tmp.string(), iclap::LengthUnit::metres),
+                       doctest::Contains("two meshes are named 'block'"), iclap::InvalidArgument);
+  std::ofstream(tmp / "meshes.json") << "[{\"file\": \"block.obj\",\n \"scale_to_metres\": oops}]";
+  fs::remove(tmp / "block.ply");
+  try {
+    iclap::load_mesh_objects(tmp.string());
+    FAIL("accepted");
+  } catch (const iclap::ParseError& e) {
+    CHECK(e.line() == 2);
+  }
+  fs::remove_all(tmp);
+  CHECK_THROWS_AS(iclap::load_mesh_objects(dir + "/nothing_here"), iclap::IoError);
+}
+
+TEST_CASE("mesh objects: the shared manifest lists the 25 meshes with their scales") {
+  const std::string path = std::string(ICLAP_SHARED_DIR) + "/data/meshes/meshes.json";
+  if (std::string(ICLAP_SHARED_DIR).empty() || !std::ifstream(path)) {
+    MESSAGE("shared meshes not available; skipped");
+    return;
+  }
+  const auto scales = iclap::read_mesh_manifest(path);
+  CHECK(scales.size() == 25);
+  CHECK(scales.at("wt_pliers.ply") == 0.001);
+  CHECK(scales.at("ycb_037_scissors.obj") == 1.0);
+}
