@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// The heavy part of recognition_setup: every classifier type the options can
+// ask for. Instantiated once per scalar type in its own translation unit
+// (classifiers_float.cpp, classifiers_double.cpp) so they compile in parallel.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "iclap/recognition/bow_classifier.hpp"
+#include "iclap/recognition/registration_classifier.hpp"
+#include "recognition_setup.hpp"
+
+namespace iclap::cli {
+
+template <typename IcpType>
+void configure_icp(IcpType& icp, const RecognitionOptions& o) {
+  icp.termination.max_iterations = o.max_iterations;
+  icp.termination.relative_tolerance = static_cast<typename IcpType::Transform::Vector::Scalar>(o.relative_tolerance);
+}
+
+template <typename Scalar, typename Model, template <typename, int> class Search>
+std::unique_ptr<Classifier> make_registration_classifier(const std::string& name, const RecognitionOptions& o) {
+  if (name == "icp") {
+    auto c = std::make_unique<IcpClassifier<Scalar, Model, Search<Scalar, 3>>>();
+    configure_icp(c->icp, o);
+    return c;
+  }
+  if (name == "iclap") {
+    auto c = std::make_unique<IclapClassifier<Scalar, Model, Search<Scalar, 4>>>();
+    configure_icp(c->icp, o);
+    c->embedding.label_scale = o.label_scale;
+    return c;
+  }
+  auto c = std::make_unique<IclapNClassifier<Eigen::Dynamic, Scalar, Model, Search<Scalar, Eigen::Dynamic>>>();
+  configure_icp(c->icp, o);
+  c->embedding.descriptor_scale = o.descriptor_scale;
+  return c;
+}
+
+template <typename Scalar, template <typename, int> class Search>
+std::unique_ptr<Classifier> make_with_search(const std::string& name, const RecognitionOptions& o) {
+  if (o.transform == "full") return make_registration_classifier<Scalar, FullRigid, Search>(name, o);
+  if (o.transform == "spatial") return make_registration_classifier<Scalar, SpatialRigid, Search>(name, o);
+  if (o.transform == "translation") return make_registration_classifier<Scalar, Translation, Search>(name, o);
+  return make_registration_classifier<Scalar, Planar, Search>(name, o);
+}
+
+template <typename Scalar>
+std::vector<std::unique_ptr<Classifier>> make_classifiers_for(const RecognitionOptions& o,
+                                                              const std::vector<std::string>& names) {
+  std::vector<std::unique_ptr<Classifier>> out;
+  for (const auto& name : names) {
+    if (name == "bow") {
+      out.push_back(std::make_unique<BowClassifier>());
+    } else if (name == "icp" || name == "iclap" || name == "iclapn") {
+      out.push_back(o.search == "brute" ? make_with_search<Scalar, BruteForceSearch>(name, o)
+                                        : make_with_search<Scalar, KdTreeSearch>(name, o));
+    } else {
+      throw UsageError("unknown classifier '" + name + "' (known: bow, icp, iclap, iclapn)");
+    }
+  }
+  return out;
+}
+
+}  // namespace iclap::cli

@@ -1,0 +1,429 @@
+// SPDX-License-Identifier: MIT
+//
+// `iclap evaluate [FILE.csv]`: the paper's recognition experiment (Section
+// VI), the project's main job.
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cli.hpp"
+#include "iclap/core/version.hpp"
+#include "iclap/data/csv_reader.hpp"
+#include "iclap/data/csv_writer.hpp"
+#include "iclap/data/ply_cloud.hpp"
+#include "iclap/io/atomic_file.hpp"
+#include "iclap/recognition/cross_validation.hpp"
+#include "iclap/sim/builtin_objects.hpp"
+#include "iclap/sim/simulator.hpp"
+#include "recognition_setup.hpp"
+#include "svg_plot.hpp"
+
+#ifndef ICLAP_SIM_FINGERPRINT
+#define ICLAP_SIM_FINGERPRINT "unknown"
+#endif
+
+namespace {
+
+using namespace iclap;
+using namespace iclap::cli;
+namespace fs = std::filesystem;
+
+const std::string kUsage = std::string(
+    "usage: iclap evaluate [FILE.csv] [options]\n"
+    "\n"
+    "Runs the iCLAP paper's experiment: leave-one-exploration-out cross validation\n"
+    "of every method, recognition rate against the number of touches. The codebook,\n"
+    "the reference clouds and the fusion weights come from the training folds only\n"
+    "(weights by the paper's 0.1 grid, chosen on inner folds of the training\n"
+    "explorations). Without FILE, the built-in 20-object rig simulation is used\n"
+    "(simulated once, then cached).\n"
+    "\n"
+    "Writes to --out DIR: results.csv (method,touches,rate,...), weights.csv,\n"
+    "confusion.csv, sweeps.csv and SVG figures (fig_*.svg) like the paper's.\n"
+    "\n"
+    "options:\n"
+    "  --touches LIST          numbers of touches: 1,5,10,20 or 1..20 (default 1..20)\n"
+    "  --methods LIST|paper|all   comma-separated methods (default paper: bow, icp,\n"
+    "                          iclap, icp+bow, icp*bow, iclap+icp, iclap*icp, iclap+bow,\n"
+    "                          iclap*bow, iclap+icp+bow, iclap*icp*bow; all adds iclapn).\n"
+    "                          '+' sums with fitted weights, '*' products, or fixed\n"
+    "                          weights such as 0.6*iclap+0.2*icp+0.2*bow\n"
+    "  --repeats N             random draws per object and number of touches (default 10)\n"
+    "  --weight-repeats N      draws per case on the inner folds for the weights (default 2)\n"
+    "  --seed S                seed of the touch draws and the codebook (default 1)\n"
+    "  --normalization l2|minmax|zscore   distance normalisation (default l2, the paper's)\n"
+    "  --threads N             worker threads (default 0: all cores); results do not depend on it\n"
+    "  --out DIR               output directory (default results)\n"
+    "  --sim-seed S            seed of the built-in simulation (default 1)\n"
+    "  --export-ply            also write each object's reference cloud (all its touches,\n"
+    "                          label = word of a codebook fitted on all touches) as\n"
+    "                          DIR/references/OBJECT.ply\n") +
+    RecognitionOptions::usage();
+
+std::vector<int> parse_touches(const std::string& text) {
+  std::vector<int> out;
+  for (const auto& part : Options::split(text, ',')) {
+    const auto dots = part.find("..");
+    if (dots != std::string::npos) {
+      const auto a = Options::parse_integer(part.substr(0, dots), "--touches", 1, 100000);
+      const auto b = Options::parse_integer(part.substr(dots + 2), "--touches", 1, 100000);
+      if (b < a) throw UsageError("--touches: empty range '" + part + "'");
+      for (long long t = a; t <= b; ++t) out.push_back(static_cast<int>(t));
+    } else {
+      out.push_back(static_cast<int>(Options::parse_integer(part, "--touches", 1, 100000)));
+    }
+  }
+  std::set<int> seen;
+  for (int t : out)
+    if (!seen.insert(t).second) throw UsageError("--touches: " + std::to_string(t) + " is listed twice");
+  return out;
+}
+
+std::vector<Method> parse_methods(const std::string& text) {
+  std::vector<Method> out = paper_methods();
+  if (text == "paper") return out;
+  if (text == "all") {
+    out.push_back(parse_method("iclapn"));
+    return out;
+  }
+  out.clear();
+  std::set<std::string> seen;
+  for (const auto& spec : Options::split(text, ',')) {
+    Method m = parse_method(spec);
+    if (!seen.insert(m.name).second) throw UsageError("--methods: '" + m.name + "' is listed twice");
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+std::string cache_directory() {
+  if (const char* d = std::getenv("ICLAP_CACHE_DIR"); d && *d) return d;
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::string(x) + "/iclap";
+  if (const char* h = std::getenv("HOME"); h && *h) return std::string(h) + "/.cache/iclap";
+  return ".iclap-cache";
+}
+
+/// The built-in 20-object dataset: read from the cache, or simulated and
+/// cached. The cache key holds the seed and a fingerprint of the simulator's
+/// source, so a changed simulator never reuses an old file.
+Dataset builtin_dataset(std::uint64_t seed, int threads, std::string& origin) {
+  const std::string dir = cache_directory();
+  const std::string path = dir + "/builtin-seed" + std::to_string(seed) + "-" + ICLAP_SIM_FINGERPRINT + ".csv";
+  if (fs::exists(path)) {
+    origin = "built-in simulation (cached: " + path + ")";
+    return read_dataset_csv(path);
+  }
+  SimulationSettings settings;
+  settings.threads = static_cast<unsigned>(threads);
+  Progress progress("simulating the built-in objects");
+  const auto start = std::chrono::steady_clock::now();
+  Dataset ds = simulate_dataset(builtin_objects(), settings, seed, std::ref(progress));
+  progress.finish();
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  origin = "built-in simulation (seed " + std::to_string(seed) + ", simulated in " + std::to_string(secs).substr(0, 4) + " s";
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  try {
+    write_dataset_csv(path, ds);
+    origin += ", cached: " + path + ")";
+  } catch (const IoError& e) {
+    origin += ", not cached: " + std::string(e.what()) + ")";
+  }
+  return ds;
+}
+
+std::string percent(double r) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "%5.1f", 100.0 * r);
+  return buf;
+}
+
+std::string csv_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+void write_file(const fs::path& path, const std::string& content) {
+  AtomicFileWriter w(path.string());
+  w.stream() << content;
+  w.commit();
+}
+
+double fold_std(const MethodResult& m, std::size_t t) {
+  std::vector<double> rates;
+  for (std::size_t f = 0; f < m.fold_total.size(); ++f)
+    if (m.fold_total[f][t] > 0)
+      rates.push_back(static_cast<double>(m.fold_correct[f][t]) / static_cast<double>(m.fold_total[f][t]));
+  if (rates.size() < 2) return 0.0;
+  double mean = 0;
+  for (double r : rates) mean += r;
+  mean /= static_cast<double>(rates.size());
+  double var = 0;
+  for (double r : rates) var += (r - mean) * (r - mean);
+  return std::sqrt(var / static_cast<double>(rates.size() - 1));
+}
+
+/// The paper's figures that the evaluated methods allow.
+void write_figures(const fs::path& out, const CrossValidationResult& r, std::vector<std::string>& written) {
+  std::map<std::string, const MethodResult*> by_name;
+  for (const auto& m : r.methods) by_name[m.name] = &m;
+  auto series_of = [&](const std::string& name, bool dashed = false) {
+    PlotSeries s;
+    s.name = name;
+    s.dashed = dashed;
+    const MethodResult& m = *by_name.at(name);
+    for (std::size_t t = 0; t < r.touches.size(); ++t) {
+      s.x.push_back(r.touches[t]);
+      s.y.push_back(m.rate(t));
+    }
+    return s;
+  };
+  struct Figure {
+    const char* file;
+    const char* title;
+    std::vector<std::string> methods;
+  };
+  const std::vector<Figure> figures = {
+      {"fig_single.svg", "Single pipelines and iCLAP (paper Fig. 5)", {"bow", "icp", "iclap"}},
+      {"fig_decision_fusion.svg", "Decision fusion of ICP and BoW vs iCLAP", {"iclap", "icp+bow", "icp*bow"}},
+      {"fig_hybrid_icp.svg", "Hybrid fusion of iCLAP and ICP", {"iclap", "iclap+icp", "iclap*icp"}},
+      {"fig_hybrid_bow.svg", "Hybrid fusion of iCLAP and BoW", {"iclap", "iclap+bow", "iclap*bow"}},
+      {"fig_hybrid_all.svg", "Hybrid fusion of iCLAP, ICP and BoW", {"iclap", "iclap+icp+bow", "iclap*icp*bow"}},
+  };
+  for (const auto& f : figures) {
+    Plot p;
+    p.title = f.title;
+    p.x_label = "number of touches";
+    p.y_label = "recognition rate";
+    for (const auto& name : f.methods)
+      if (by_name.count(name)) p.series.push_back(series_of(name, name == "iclap" && f.methods.front() == "iclap"));
+    if (p.series.size() < 2) continue;
+    write_file(out / f.file, render_svg(p));
+    written.push_back(f.file);
+  }
+  {
+    Plot p;
+    p.title = "All evaluated methods";
+    p.x_label = "number of touches";
+    p.y_label = "recognition rate";
+    for (const auto& m : r.methods) p.series.push_back(series_of(m.name));
+    write_file(out / "fig_all_methods.svg", render_svg(p));
+    written.push_back("fig_all_methods.svg");
+  }
+  // Rate against the fusion weights on the test folds (the paper's weight
+  // figures): two terms, one line per weight; three terms, the rate at the
+  // largest number of touches against the first weight, one line per second.
+  for (const auto& sw : r.sweeps) {
+    Plot p;
+    p.y_label = "recognition rate";
+    std::string safe;
+    for (char c : sw.method) safe += (c == '+' ? 'p' : (c == '*' ? 'x' : c));
+    const std::string file = "fig_weights_" + safe + ".svg";
+    if (sw.terms.size() == 2) {
+      p.title = sw.method + ": rate with weight w on " + sw.terms[0];
+      p.x_label = "number of touches";
+      for (std::size_t g = 0; g < sw.grid.size(); ++g) {
+        PlotSeries s;
+        s.name = "w = " + csv_number(sw.grid[g][0]);
+        for (std::size_t t = 0; t < r.touches.size(); ++t) {
+          s.x.push_back(r.touches[t]);
+          s.y.push_back(sw.total[t] ? static_cast<double>(sw.correct[g][t]) / static_cast<double>(sw.total[t]) : 0);
+        }
+        p.series.push_back(std::move(s));
+      }
+    } else if (sw.terms.size() == 3) {
+      const std::size_t t = r.touches.size() - 1;
+      p.title = sw.method + ": rate at " + std::to_string(r.touches[t]) + " touches";
+      p.x_label = "weight on " + sw.terms[1];
+      std::map<double, PlotSeries> lines;
+      for (std::size_t g = 0; g < sw.grid.size(); ++g) {
+        PlotSeries& s = lines[sw.grid[g][2]];
+        s.name = "w(" + sw.terms[2] + ") = " + csv_number(sw.grid[g][2]);
+        s.x.push_back(sw.grid[g][1]);
+        s.y.push_back(sw.total[t] ? static_cast<double>(sw.correct[g][t]) / static_cast<double>(sw.total[t]) : 0);
+      }
+      for (auto& kv : lines) p.series.push_back(kv.second);
+    } else {
+      continue;
+    }
+    write_file(out / file, render_svg(p));
+    written.push_back(file);
+  }
+}
+
+void write_tables(const fs::path& out, const CrossValidationResult& r) {
+  std::string results = "method,touches,rate,correct,total,fold_rate_std\n";
+  for (const auto& m : r.methods)
+    for (std::size_t t = 0; t < r.touches.size(); ++t)
+      results += m.name + "," + std::to_string(r.touches[t]) + "," + csv_number(m.rate(t)) + "," +
+                 std::to_string(m.correct[t]) + "," + std::to_string(m.total[t]) + "," + csv_number(fold_std(m, t)) +
+                 "\n";
+  write_file(out / "results.csv", results);
+
+  std::string weights = "method,fold,fusion\n";
+  for (const auto& m : r.methods)
+    for (std::size_t f = 0; f < m.fold_expressions.size(); ++f)
+      weights += m.name + "," + std::to_string(f) + "," + m.fold_expressions[f] + "\n";
+  write_file(out / "weights.csv", weights);
+
+  std::string confusion = "method,touches,true_object,recognised_object,count\n";
+  for (const auto& m : r.methods)
+    for (std::size_t t = 0; t < r.touches.size(); ++t)
+      for (Index a = 0; a < m.confusion[t].rows(); ++a)
+        for (Index b = 0; b < m.confusion[t].cols(); ++b)
+          if (m.confusion[t](a, b) > 0)
+            confusion += m.name + "," + std::to_string(r.touches[t]) + "," + r.objects[static_cast<std::size_t>(a)] +
+                         "," + r.objects[static_cast<std::size_t>(b)] + "," + std::to_string(m.confusion[t](a, b)) + "\n";
+  write_file(out / "confusion.csv", confusion);
+
+  std::string sweeps = "method,weights,touches,rate\n";
+  for (const auto& sw : r.sweeps)
+    for (std::size_t g = 0; g < sw.grid.size(); ++g) {
+      std::string w;
+      for (std::size_t i = 0; i < sw.grid[g].size(); ++i) w += (i ? "+" : "") + csv_number(sw.grid[g][i]) + "*" + sw.terms[i];
+      for (std::size_t t = 0; t < r.touches.size(); ++t)
+        sweeps += sw.method + "," + w + "," + std::to_string(r.touches[t]) + "," +
+                  csv_number(sw.total[t] ? static_cast<double>(sw.correct[g][t]) / static_cast<double>(sw.total[t]) : 0) +
+                  "\n";
+    }
+  write_file(out / "sweeps.csv", sweeps);
+}
+
+void export_reference_clouds(const fs::path& out, const TouchTable& table, const RecognitionOptions& options) {
+  KMeansQuantizer<float> q = make_quantizer(options);
+  q.fit(table.touches.features);
+  const WordIds words = assign_words(q, table.touches.features);
+  fs::create_directories(out / "references");
+  for (Index o = 0; o < static_cast<Index>(table.objects.size()); ++o) {
+    std::vector<Index> idx;
+    for (Index i = 0; i < table.size(); ++i)
+      if (table.object[static_cast<std::size_t>(i)] == o) idx.push_back(i);
+    Eigen::Matrix3Xd p(3, static_cast<Index>(idx.size()));
+    std::vector<long long> labels;
+    for (std::size_t j = 0; j < idx.size(); ++j) {
+      p.col(static_cast<Index>(j)) = table.touches.positions.col(idx[j]);
+      labels.push_back(words(idx[j]));
+    }
+    std::string safe;
+    for (char c : table.objects[static_cast<std::size_t>(o)]) safe += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
+    write_labeled_cloud_ply((out / "references" / (safe + ".ply")).string(), p, labels);
+  }
+}
+
+int run_evaluate(const Args& args) {
+  auto value_options = RecognitionOptions::value_options();
+  for (const char* o : {"touches", "methods", "repeats", "weight-repeats", "seed", "normalization", "threads", "out",
+                        "sim-seed"})
+    value_options.insert(o);
+  const Options opt(args, value_options, {"export-ply"});
+  opt.expect_positional(0, 1, "at most one dataset FILE.csv");
+  RecognitionOptions ro;
+  ro.parse(opt);
+  CrossValidationSettings s;
+  s.touches = parse_touches(opt.string("touches", "1..20"));
+  s.repeats = static_cast<int>(opt.integer("repeats", 10, 1, 100000));
+  s.weight_repeats = static_cast<int>(opt.integer("weight-repeats", 2, 1, 100000));
+  s.seed = static_cast<std::uint64_t>(opt.integer("seed", 1, 0));
+  ro.codebook_seed = s.seed;
+  s.normalization = parse_normalization(opt.choice("normalization", {"l2", "minmax", "zscore"}, "l2"));
+  s.threads = static_cast<int>(opt.integer("threads", 0, 0, 4096));
+  const std::vector<Method> methods = parse_methods(opt.string("methods", "paper"));
+  const fs::path out = opt.string("out", "results");
+  const auto sim_seed = static_cast<std::uint64_t>(opt.integer("sim-seed", 1, 0));
+
+  // The classifiers the methods need, in a stable order.
+  std::vector<std::string> needed;
+  for (const char* c : {"bow", "icp", "iclap", "iclapn"})
+    for (const auto& m : methods) {
+      const auto used = m.fusion.classifiers();
+      if (std::find(used.begin(), used.end(), c) != used.end()) {
+        needed.push_back(c);
+        break;
+      }
+    }
+  for (const auto& m : methods)
+    for (const auto& c : m.fusion.classifiers())
+      if (std::find(needed.begin(), needed.end(), c) == needed.end())
+        throw UsageError("method '" + m.name + "' uses unknown classifier '" + c + "' (known: bow, icp, iclap, iclapn)");
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string origin;
+  Dataset dataset;
+  if (opt.positional().empty()) {
+    dataset = builtin_dataset(sim_seed, s.threads, origin);
+  } else {
+    origin = opt.positional()[0];
+    dataset = read_dataset_csv(origin, [](const DatasetWarning& w) {
+      std::fprintf(stderr, "%s:%zu: warning: %s\n", w.file.c_str(), w.line, w.message.c_str());
+    });
+  }
+  TouchTable table;
+  {
+    Progress progress("describing touches");
+    table = make_touch_table(dataset, ro, std::ref(progress));
+  }
+
+  const ClassifierFactory factory = [ro, needed] { return make_classifiers(ro, needed); };
+
+  CrossValidation<> cv(table, factory, make_quantizer(ro), methods, s);
+  const unsigned threads = s.threads > 0 ? static_cast<unsigned>(s.threads) : std::max(1u, std::thread::hardware_concurrency());
+  std::printf("iclap %s evaluate\ndataset: %s\n", ICLAP_VERSION_STRING, origin.c_str());
+  std::printf("%zu objects, %zu frames, %ld touches (contact threshold %g), %d folds (one exploration of every object held out)\n",
+              table.objects.size(), dataset.frames.size(), static_cast<long>(table.size()), ro.contact_threshold,
+              cv.folds());
+  std::printf("descriptor %s, k = %ld, transform %s, label scale %g m/word, %s ICP (%s), %d draws per case, seed %llu, %u threads\n\n",
+              ro.descriptor.c_str(), static_cast<long>(ro.k), ro.transform.c_str(), ro.label_scale, ro.scalar.c_str(),
+              ro.search.c_str(), s.repeats, static_cast<unsigned long long>(s.seed), threads);
+  std::fflush(stdout);
+  CrossValidationResult r;
+  {
+    Progress progress("recognising test touch sets");
+    r = cv.run(std::ref(progress));
+  }
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // Table of rates.
+  std::printf("recognition rate (%%) against the number of touches\n%7s", "touches");
+  for (const auto& m : r.methods) std::printf(" %*s", std::max<int>(6, static_cast<int>(m.name.size())), m.name.c_str());
+  std::printf("\n");
+  for (std::size_t t = 0; t < r.touches.size(); ++t) {
+    std::printf("%7d", r.touches[t]);
+    for (const auto& m : r.methods)
+      std::printf(" %*s", std::max<int>(6, static_cast<int>(m.name.size())), percent(m.rate(t)).c_str());
+    std::printf("\n");
+  }
+  std::printf("\nfusion weights chosen on the training folds (fold: weights):\n");
+  for (const auto& m : r.methods) {
+    if (m.fold_weights.empty() || m.fold_weights[0].empty()) continue;
+    std::printf("  %s:", m.name.c_str());
+    for (std::size_t f = 0; f < m.fold_expressions.size(); ++f) std::printf(" [%zu] %s", f, m.fold_expressions[f].c_str());
+    std::printf("\n");
+  }
+  if (r.capped_draws) std::printf("note: %zu draws asked for more touches than their exploration had and used all of them\n", r.capped_draws);
+  if (r.empty_explorations) std::printf("note: %zu held-out explorations had no touch and were not tested\n", r.empty_explorations);
+
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) throw IoError(out.string(), "cannot create the output directory: " + ec.message());
+  write_tables(out, r);
+  std::vector<std::string> figures;
+  write_figures(out, r, figures);
+  if (opt.flag("export-ply")) export_reference_clouds(out, table, ro);
+  std::printf("\nwrote %s: results.csv, weights.csv, confusion.csv, sweeps.csv", out.string().c_str());
+  for (const auto& f : figures) std::printf(", %s", f.c_str());
+  if (opt.flag("export-ply")) std::printf(", references/*.ply");
+  std::printf("\ntotal time %.1f s\n", secs);
+  return kExitOk;
+}
+
+}  // namespace
+
+ICLAP_COMMAND("evaluate", "run the paper's recognition experiment (main job)", kUsage, run_evaluate);

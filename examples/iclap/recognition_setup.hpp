@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// The recognition system as the `iclap` commands configure it from their
+// options (shared by `evaluate` and `live`): descriptor, codebook and the
+// classifiers with their ICP settings.
+
+#include <cstdint>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cli.hpp"
+#include "iclap/data/dataset.hpp"
+#include "iclap/recognition/classifier.hpp"
+#include "iclap/recognition/touch_table.hpp"
+#include "iclap/tactile/kmeans.hpp"
+
+namespace iclap::cli {
+
+struct RecognitionOptions {
+  std::string descriptor = "sift";   ///< sift | raw | moments
+  std::string transform = "planar";  ///< full | spatial | planar | translation
+  std::string scalar = "float";      ///< float | double
+  std::string search = "kdtree";     ///< kdtree | brute
+  Index k = 50;                      ///< codebook size (paper: 50)
+  std::uint64_t codebook_seed = 1;
+  double label_scale = 0.001;        ///< metres per word step (iCLAP's 4th axis)
+  double descriptor_scale = 0.01;    ///< metres per descriptor unit (iCLAP-N)
+  int max_iterations = 50;
+  double relative_tolerance = 1e-6;
+  double contact_threshold = kDefaultContactThreshold;
+
+  /// The option names `parse` reads (value options).
+  static std::set<std::string> value_options() {
+    return {"descriptor", "transform", "scalar", "search", "k", "label-scale", "descriptor-scale",
+            "max-iterations", "relative-tolerance", "contact-threshold"};
+  }
+  /// Usage lines of those options.
+  static const char* usage() {
+    return "  --descriptor sift|raw|moments   tactile feature (default sift: Tactile-SIFT 3x3x8)\n"
+           "  --k N                   codebook size (default 50, as in the paper)\n"
+           "  --transform full|spatial|planar|translation   motion between a test and a\n"
+           "                          reference (default planar: objects lie on a table;\n"
+           "                          full is the paper's 4-D rigid iCLAP)\n"
+           "  --label-scale S         metres per word step on iCLAP's label axis (default 0.001:\n"
+           "                          the paper's rig gave millimetres and integer labels)\n"
+           "  --descriptor-scale S    metres per descriptor unit for iclapn (default 0.01)\n"
+           "  --scalar float|double   ICP arithmetic (default float)\n"
+           "  --search kdtree|brute   closest-point search (default kdtree)\n"
+           "  --max-iterations N      ICP iteration cap (default 50)\n"
+           "  --relative-tolerance R  ICP relative-change stop (default 1e-6)\n"
+           "  --contact-threshold P   a frame is a touch when a taxel exceeds P raw units\n";
+  }
+  void parse(const Options& o) {
+    descriptor = o.choice("descriptor", {"sift", "raw", "moments"}, descriptor);
+    transform = o.choice("transform", {"full", "spatial", "planar", "translation"}, transform);
+    scalar = o.choice("scalar", {"float", "double"}, scalar);
+    search = o.choice("search", {"kdtree", "brute"}, search);
+    k = static_cast<Index>(o.integer("k", k, 1, 100000));
+    label_scale = o.number("label-scale", label_scale, 0.0);
+    if (!(label_scale > 0)) throw UsageError("--label-scale must be > 0");
+    descriptor_scale = o.number("descriptor-scale", descriptor_scale, 0.0);
+    if (!(descriptor_scale > 0)) throw UsageError("--descriptor-scale must be > 0");
+    max_iterations = static_cast<int>(o.integer("max-iterations", max_iterations, 0, 100000));
+    relative_tolerance = o.number("relative-tolerance", relative_tolerance, 0.0);
+    contact_threshold = o.number("contact-threshold", contact_threshold, 0.0);
+  }
+};
+
+/// The classifiers named in `names` ("bow", "icp", "iclap", "iclapn"),
+/// configured by `options`. Throws UsageError for an unknown name.
+std::vector<std::unique_ptr<Classifier>> make_classifiers(const RecognitionOptions& options,
+                                                          const std::vector<std::string>& names);
+
+/// The touches of `dataset` described by the chosen descriptor.
+TouchTable make_touch_table(const Dataset& dataset, const RecognitionOptions& options,
+                            const ProgressCallback& progress = {});
+
+/// The codebook prototype (k, seed) the options ask for.
+inline KMeansQuantizer<float> make_quantizer(const RecognitionOptions& options) {
+  KMeansQuantizer<float> q;
+  q.settings.k = options.k;
+  q.settings.seed = options.codebook_seed;
+  return q;
+}
+
+}  // namespace iclap::cli

@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// Minimal SVG charts for the `iclap` tools: lines (rate against touches or
+// weight) and scatter (accuracy against time), with axes, grid and legend.
+// No dependency; the output opens in any browser.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace iclap::cli {
+
+struct PlotSeries {
+  std::string name;
+  std::vector<double> x, y;
+  bool dashed = false;
+  bool markers_only = false;   ///< scatter instead of a line
+  bool highlight = false;      ///< drawn thicker (e.g. a Pareto front)
+  std::vector<std::string> point_labels;  ///< optional label per point
+};
+
+struct Plot {
+  std::string title, x_label, y_label;
+  std::vector<PlotSeries> series;
+  double y_min = 0, y_max = 1;        ///< fixed y range
+  bool y_percent = true;              ///< tick labels as percentages
+  bool x_log = false;                 ///< logarithmic x axis
+  bool y_auto = false;                ///< fit the y range to the data instead
+};
+
+namespace detail {
+
+inline std::string escape_xml(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+inline std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+inline std::vector<double> nice_ticks(double lo, double hi, int target) {
+  const double span = hi - lo;
+  if (!(span > 0)) return {lo};
+  const double raw = span / target;
+  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+  double step = mag;
+  for (double m : {1.0, 2.0, 2.5, 5.0, 10.0})
+    if (m * mag >= raw) {
+      step = m * mag;
+      break;
+    }
+  std::vector<double> t;
+  for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * span; v += step) t.push_back(v);
+  return t;
+}
+
+}  // namespace detail
+
+/// Renders `p` as a standalone SVG document.
+inline std::string render_svg(const Plot& p) {
+  using detail::escape_xml;
+  using detail::fmt;
+  const double W = 760, H = 440, left = 70, right = 200, top = 40, bottom = 55;
+  const double pw = W - left - right, ph = H - top - bottom;
+  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = p.y_min, y1 = p.y_max;
+  if (p.y_auto) {
+    y0 = std::numeric_limits<double>::infinity();
+    y1 = -y0;
+  }
+  for (const auto& s : p.series)
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      const double xv = p.x_log ? std::log10(s.x[i]) : s.x[i];
+      x0 = std::min(x0, xv);
+      x1 = std::max(x1, xv);
+      if (p.y_auto) {
+        y0 = std::min(y0, s.y[i]);
+        y1 = std::max(y1, s.y[i]);
+      }
+    }
+  if (!std::isfinite(x0)) x0 = 0, x1 = 1;
+  if (x1 <= x0) x1 = x0 + 1;
+  if (p.y_auto) {
+    if (!std::isfinite(y0)) y0 = 0, y1 = 1;
+    const double pad = 0.05 * std::max(y1 - y0, 1e-9);
+    y0 -= pad;
+    y1 += pad;
+  }
+  auto X = [&](double v) { return left + ((p.x_log ? std::log10(v) : v) - x0) / (x1 - x0) * pw; };
+  auto Y = [&](double v) { return top + (1 - (v - y0) / (y1 - y0)) * ph; };
+  static const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b",
+                                 "#e377c2", "#7f7f7f", "#bcbd22", "#17becf", "#393b79", "#637939"};
+  std::string s;
+  s += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt("%.0f", W) + "\" height=\"" + fmt("%.0f", H) +
+       "\" font-family=\"sans-serif\" font-size=\"12\">\n";
+  s += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  s += "<text x=\"" + fmt("%.1f", left + pw / 2) + "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" +
+       escape_xml(p.title) + "</text>\n";
+  // Grid and ticks.
+  for (double t : detail::nice_ticks(y0, y1, 5)) {
+    s += "<line x1=\"" + fmt("%.1f", left) + "\" x2=\"" + fmt("%.1f", left + pw) + "\" y1=\"" + fmt("%.1f", Y(t)) +
+         "\" y2=\"" + fmt("%.1f", Y(t)) + "\" stroke=\"#ddd\"/>\n";
+    s += "<text x=\"" + fmt("%.1f", left - 6) + "\" y=\"" + fmt("%.1f", Y(t) + 4) + "\" text-anchor=\"end\">" +
+         (p.y_percent ? fmt("%.0f%%", 100 * t) : fmt("%g", t)) + "</text>\n";
+  }
+  std::vector<double> xt;
+  if (p.x_log) {
+    for (double e = std::floor(x0); e <= std::ceil(x1); e += 1)
+      if (e >= x0 - 1e-9 && e <= x1 + 1e-9) xt.push_back(std::pow(10.0, e));
+  } else {
+    xt = detail::nice_ticks(x0, x1, 8);
+  }
+  for (double t : xt) {
+    s += "<line x1=\"" + fmt("%.1f", X(t)) + "\" x2=\"" + fmt("%.1f", X(t)) + "\" y1=\"" + fmt("%.1f", top) +
+         "\" y2=\"" + fmt("%.1f", top + ph) + "\" stroke=\"#eee\"/>\n";
+    s += "<text x=\"" + fmt("%.1f", X(t)) + "\" y=\"" + fmt("%.1f", top + ph + 16) + "\" text-anchor=\"middle\">" +
+         fmt("%g", t) + "</text>\n";
+  }
+  s += "<rect x=\"" + fmt("%.1f", left) + "\" y=\"" + fmt("%.1f", top) + "\" width=\"" + fmt("%.1f", pw) +
+       "\" height=\"" + fmt("%.1f", ph) + "\" fill=\"none\" stroke=\"#333\"/>\n";
+  s += "<text x=\"" + fmt("%.1f", left + pw / 2) + "\" y=\"" + fmt("%.1f", H - 12) + "\" text-anchor=\"middle\">" +
+       escape_xml(p.x_label) + "</text>\n";
+  s += "<text transform=\"translate(16," + fmt("%.1f", top + ph / 2) + ") rotate(-90)\" text-anchor=\"middle\">" +
+       escape_xml(p.y_label) + "</text>\n";
+  // Series and legend.
+  for (std::size_t k = 0; k < p.series.size(); ++k) {
+    const auto& ser = p.series[k];
+    const std::string c = colors[k % (sizeof colors / sizeof *colors)];
+    if (!ser.markers_only && ser.x.size() > 1) {
+      std::string pts;
+      for (std::size_t i = 0; i < ser.x.size(); ++i) pts += fmt("%.1f", X(ser.x[i])) + "," + fmt("%.1f", Y(ser.y[i])) + " ";
+      s += "<polyline fill=\"none\" stroke=\"" + c + "\" stroke-width=\"" + (ser.highlight ? "3" : "1.8") + "\"" +
+           (ser.dashed ? " stroke-dasharray=\"6,4\"" : "") + " points=\"" + pts + "\"/>\n";
+    }
+    for (std::size_t i = 0; i < ser.x.size(); ++i) {
+      s += "<circle cx=\"" + fmt("%.1f", X(ser.x[i])) + "\" cy=\"" + fmt("%.1f", Y(ser.y[i])) + "\" r=\"" +
+           (ser.markers_only ? "4" : "2.5") + "\" fill=\"" + c + "\"/>\n";
+      if (i < ser.point_labels.size() && !ser.point_labels[i].empty())
+        s += "<text x=\"" + fmt("%.1f", X(ser.x[i]) + 5) + "\" y=\"" + fmt("%.1f", Y(ser.y[i]) - 5) +
+             "\" font-size=\"9\" fill=\"#444\">" + escape_xml(ser.point_labels[i]) + "</text>\n";
+    }
+    const double ly = top + 10 + 18 * static_cast<double>(k);
+    s += "<line x1=\"" + fmt("%.1f", left + pw + 12) + "\" x2=\"" + fmt("%.1f", left + pw + 36) + "\" y1=\"" +
+         fmt("%.1f", ly) + "\" y2=\"" + fmt("%.1f", ly) + "\" stroke=\"" + c + "\" stroke-width=\"2.5\"" +
+         (ser.dashed ? " stroke-dasharray=\"6,4\"" : "") + "/>\n";
+    s += "<text x=\"" + fmt("%.1f", left + pw + 42) + "\" y=\"" + fmt("%.1f", ly + 4) + "\">" + escape_xml(ser.name) +
+         "</text>\n";
+  }
+  s += "</svg>\n";
+  return s;
+}
+
+}  // namespace iclap::cli
