@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -49,7 +50,11 @@ struct ExplorationSettings {
   double speed_jitter = 0.15;        ///< relative standard deviation of the speed, per frame
   double heading_jitter = 3.0 * 3.14159265358979323846 / 180.0;  ///< sweep direction wander per frame, rad
   double approach_speed = 10e-3;     ///< lowering and lifting along the pad normal, m/s
-  double air_speed = 30e-3;          ///< moving to the next sweep through the air, m/s
+  double air_speed = 100e-3;         ///< moving to the next sweep through the air, m/s
+  /// At the end of a sweep the operator turns to a new random direction and
+  /// goes on sliding with this probability, or else lifts the pad and moves
+  /// to a new random start point.
+  double turn_probability = 0.75;
   double clearance = 3e-3;           ///< hover distance before a touch and after a lift, m
   double sweep_length_min = 30e-3;   ///< each sweep's planned length is uniform in [min, max], m
   double sweep_length_max = 80e-3;
@@ -85,6 +90,8 @@ struct ExplorationSettings {
     non_negative(heading_jitter, "exploration.heading_jitter");
     positive(approach_speed, "exploration.approach_speed");
     positive(air_speed, "exploration.air_speed");
+    if (!(turn_probability >= 0 && turn_probability <= 1))
+      throw InvalidArgument("exploration.turn_probability", "must be in [0, 1]");
     positive(clearance, "exploration.clearance");
     positive(sweep_length_min, "exploration.sweep_length_min");
     if (!(sweep_length_max >= sweep_length_min))
@@ -103,6 +110,11 @@ struct ExplorationSettings {
 };
 
 namespace detail {
+
+/// Surfaces more than this behind the pad plane are the pad's body running
+/// into the object, not something the sensing face feels (m). Steps lower
+/// than this the operator rides over.
+inline constexpr double kMaxRise = 0.01;
 
 /// A random unit vector orthogonal to the unit vector `n`.
 inline Eigen::Vector3d random_tangent(const Eigen::Vector3d& n, Rng& rng) {
@@ -187,30 +199,84 @@ class Explorer {
     return sensor_.render(contact_, shift, &rng_);
   }
 
-  // Chooses the next sweep: a start point on the reachable surface where the
-  // pad fits above the table, a pad yaw and a direction.
+  // Half the pad's diagonal: how far it reaches from its centre.
+  double pad_reach() const {
+    const TactileSensorSettings& s = sensor_.settings();
+    return 0.5 * std::hypot(s.pad_length, s.pad_width);
+  }
+
+  // How far to back away from `pose` along -z (its normal, away from the
+  // object) until moving vertically from there cannot touch the object:
+  // the pad is higher than the object's top by its reach, or outside the
+  // object's footprint (bounds in x, y) by its reach, whichever comes first.
+  double retreat_distance(const PadPose& pose) const {
+    const Eigen::AlignedBox3d box = obj_.shape.bounds();
+    const Eigen::Vector3d away = -pose.axes.col(2), c = pose.centre;
+    const double reach = pad_reach() + 0.005;
+    double d = std::numeric_limits<double>::infinity();
+    if (away.z() > 1e-9) d = std::max(0.0, (box.max().z() + reach - c.z()) / away.z());
+    // Leaving the footprint grown by the reach: the ray exits its rectangle.
+    double exit = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 2; ++k) {
+      if (std::abs(away[k]) < 1e-9) continue;
+      const double bound = away[k] > 0 ? box.max()[k] + reach : box.min()[k] - reach;
+      exit = std::min(exit, std::max(0.0, (bound - c[k]) / away[k]));
+    }
+    d = std::min(d, exit);
+    if (!std::isfinite(d)) d = reach;
+    return std::max(d, ex_.clearance);
+  }
+
+  // Height above which the pad can turn freely: the object's top plus the
+  // pad's reach.
+  double safe_height() const { return top_z_ + pad_reach() + 0.005; }
+
+  // True if the pad can move straight up from `pose` to the safe height
+  // without touching the object: vertical rays from a grid over the pad
+  // (taxel pitch, plus the corners) meet nothing.
+  bool vertical_clear(const PadPose& pose) const {
+    const TactileSensorSettings& s = sensor_.settings();
+    const double reach = safe_height() - pose.centre.z() + pad_reach();
+    if (reach <= 0) return true;
+    const int nx = static_cast<int>(std::ceil(s.pad_length / s.pitch)), ny = static_cast<int>(std::ceil(s.pad_width / s.pitch));
+    for (int i = 0; i <= nx; ++i)
+      for (int j = 0; j <= ny; ++j) {
+        const double u = (static_cast<double>(i) / nx - 0.5) * s.pad_length, v = (static_cast<double>(j) / ny - 0.5) * s.pad_width;
+        const Eigen::Vector3d from = pose.centre + u * pose.axes.col(0) + v * pose.axes.col(1);
+        if (obj_.shape.intersect(from, Eigen::Vector3d::UnitZ(), reach)) return false;
+      }
+    return true;
+  }
+
+  // Chooses the next sweep: a start point on the reachable surface (top and
+  // sides: triangles not facing down, by area) where the flat pad, pressed
+  // along the surface normal, fits (it touches that point first, nothing
+  // else of the object is in its way back along the normal) and stays above
+  // the table; a random pad yaw (or the long side level, on steep faces), a
+  // random direction, length and force.
   void plan_sweep() {
     const TactileSensorSettings& s = sensor_.settings();
     for (int attempt = 0; attempt < 200 && !cdf_.empty(); ++attempt) {
       const double u = rng_.uniform(0, cdf_.back());
       const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
-      const Index t = tris_[static_cast<std::size_t>(std::min<std::ptrdiff_t>(it - cdf_.begin(), static_cast<std::ptrdiff_t>(tris_.size()) - 1))];
+      const Index t = tris_[static_cast<std::size_t>(
+          std::min<std::ptrdiff_t>(it - cdf_.begin(), static_cast<std::ptrdiff_t>(tris_.size()) - 1))];
       const TriangleMesh& m = obj_.shape.mesh();
       double a = rng_.uniform(), b = rng_.uniform();
       if (a + b > 1) {
         a = 1 - a;
         b = 1 - b;
       }
-      const Eigen::Vector3d p = m.corner(t, 0) + a * (m.corner(t, 1) - m.corner(t, 0)) + b * (m.corner(t, 2) - m.corner(t, 0));
-      const Eigen::Vector3d n = m.area_normal(t).normalized();
-      // Exposed: seen from outside along its normal (not inside another
-      // shell of the union, not under an overhang).
-      const auto hit = obj_.shape.intersect(p + 0.05 * n, -n, 0.06, RaySide::front);
-      if (!hit || std::abs(hit->t - 0.05) > 1e-5) continue;
-      const Eigen::Vector3d ez = -n;
+      const Eigen::Vector3d p =
+          m.corner(t, 0) + a * (m.corner(t, 1) - m.corner(t, 0)) + b * (m.corner(t, 2) - m.corner(t, 0));
+      const Eigen::Vector3d ez = -m.area_normal(t).normalized();
+      const Eigen::Vector3d yaw = random_tangent(ez, rng_);
+      const Eigen::Vector3d dir = random_tangent(ez, rng_);
+      const double length = rng_.uniform(ex_.sweep_length_min, ex_.sweep_length_max);
+      const double force = rng_.uniform(ex_.force_min, ex_.force_max);
       PadPose pose;
       pose.centre = p;
-      pose.axes = pad_axes(random_tangent(ez, rng_), ez);
+      pose.axes = pad_axes(yaw, ez);
       if (pad_lowest_z(pose, s) < ex_.table_clearance) {
         // Try the long side level with the table.
         const Eigen::Vector3d level = ez.cross(Eigen::Vector3d::UnitZ());
@@ -218,10 +284,25 @@ class Explorer {
         pose.axes = pad_axes(level.normalized(), ez);
         if (pad_lowest_z(pose, s) < ex_.table_clearance) continue;
       }
+      // The pad touches this point first (nothing else of the object within
+      // the hover clearance; also rejects points inside another shell of a
+      // union), and it can get there: straight down from above, or else in
+      // along the normal from outside the object.
+      const double inf = std::numeric_limits<double>::infinity();
+      sensor_.probe(obj_.shape, pose, contact_, ex_.clearance + kMaxRise + 0.002, 0.001, inf);
+      if (!contact_.any_surface() || contact_.max_depth > 0.5e-3) continue;
+      PadPose hover = pose;
+      hover.centre -= ex_.clearance * pose.axes.col(2);
+      bool vertical = vertical_clear(hover);
+      if (!vertical) {
+        sensor_.probe(obj_.shape, pose, contact_, retreat_distance(pose) + ex_.clearance, 0.001, inf);
+        if (!contact_.any_surface() || contact_.max_depth > 0.5e-3) continue;
+      }
+      arrive_vertically_ = vertical;
       start_ = pose;
-      direction_ = random_tangent(ez, rng_);
-      sweep_length_ = rng_.uniform(ex_.sweep_length_min, ex_.sweep_length_max);
-      force_ = rng_.uniform(ex_.force_min, ex_.force_max);
+      direction_ = dir;
+      sweep_length_ = length;
+      force_ = force;
       return;
     }
     // Fallback: straight down onto the highest point.
@@ -230,9 +311,28 @@ class Explorer {
     m.vertices.row(2).maxCoeff(&top);
     start_.centre = m.vertices.col(top);
     start_.axes = pad_axes(Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitZ());
+    arrive_vertically_ = true;
     direction_ = Eigen::Vector3d::UnitX();
     sweep_length_ = ex_.sweep_length_min;
     force_ = ex_.force_min;
+  }
+
+  // At the end of a sweep (planned length reached, or blocked by a part too
+  // high to ride over, the table, a surface facing down) the operator turns
+  // to a new random direction and goes on sliding with probability
+  // turn_probability, or else lifts the pad and moves to a new start point.
+  void end_sweep() {
+    if (rng_.uniform() < ex_.turn_probability) turn();
+    else start_lift();
+  }
+
+  // A new sweep from where the pad is, without lifting it: a new random
+  // direction in the surface, length and force.
+  void turn() {
+    direction_ = random_tangent(pose_.axes.col(2), rng_);
+    sweep_length_ = rng_.uniform(ex_.sweep_length_min, ex_.sweep_length_max);
+    force_ = rng_.uniform(ex_.force_min, ex_.force_max);
+    travelled_ = 0;
   }
 
   PadPose hover_pose() const {
@@ -241,13 +341,25 @@ class Explorer {
     return p;
   }
 
-  // Travel path to the next sweep's hover pose: up above the object, across, down.
+  // Moving to the next sweep through the air, never through the object:
+  // straight up if that is free, else first back away along the pad normal
+  // until clear of the object; across above the object while turning the
+  // pad to its new orientation; down, and in along the new normal if the
+  // hover pose cannot be reached from straight above.
   void start_travel() {
     plan_sweep();
     const PadPose goal = hover_pose();
-    const double safe = std::max({top_z_ + 0.02, pose_.centre.z(), goal.centre.z()});
-    path_ = {pose_.centre, Eigen::Vector3d(pose_.centre.x(), pose_.centre.y(), safe),
-             Eigen::Vector3d(goal.centre.x(), goal.centre.y(), safe), goal.centre};
+    const Eigen::Vector3d out_from =
+        vertical_clear(pose_) ? pose_.centre : Eigen::Vector3d(pose_.centre - retreat_distance(pose_) * pose_.axes.col(2));
+    const Eigen::Vector3d out_to =
+        arrive_vertically_ ? goal.centre : Eigen::Vector3d(goal.centre - retreat_distance(goal) * goal.axes.col(2));
+    const double safe = std::max({safe_height(), out_from.z(), out_to.z()});
+    path_ = {pose_.centre,
+             out_from,
+             Eigen::Vector3d(out_from.x(), out_from.y(), safe),
+             Eigen::Vector3d(out_to.x(), out_to.y(), safe),
+             out_to,
+             goal.centre};
     path_length_ = 0;
     for (std::size_t i = 1; i < path_.size(); ++i) path_length_ += (path_[i] - path_[i - 1]).norm();
     q_from_ = Eigen::Quaterniond(pose_.axes);
@@ -320,6 +432,14 @@ class Explorer {
         travelled_ += d;
         sensor_.probe(obj_.shape, pose_, contact_);
         const double target = force_ * jitter(ex_.force_jitter);
+        if (contact_.blocked > 0) {
+          // Ran into a part higher than the pad can ride over: stop here.
+          pose_ = before;
+          direction_ = before_dir;
+          reading_ = read(pose_, 0.0);
+          end_sweep();
+          return;
+        }
         if (!contact_.any_surface() || contact_.max_depth < -ex_.follow_drop) {
           reading_ = sensor_.render(contact_, 0.0, &rng_);  // ran off: nothing under the pad
           start_lift();
@@ -333,13 +453,13 @@ class Explorer {
           pose_ = before;
           direction_ = before_dir;
           reading_ = read(pose_, 0.0);
-          start_lift();
+          end_sweep();
           return;
         }
         pose_ = pressed;
         reading_ = sensor_.render(contact_, shift, &rng_);
         last_normal_ = sensor_.contact_normal(contact_, shift);
-        if (travelled_ >= sweep_length_) start_lift();
+        if (travelled_ >= sweep_length_) end_sweep();
         return;
       }
       case Mode::lift: {
@@ -352,7 +472,11 @@ class Explorer {
       }
       case Mode::travel: {
         travelled_ = std::min(path_length_, travelled_ + ex_.air_speed * dt);
-        const double f = path_length_ > 0 ? travelled_ / path_length_ : 1.0;
+        // Turn only on the leg across, high above the object.
+        const double before = (path_[1] - path_[0]).norm() + (path_[2] - path_[1]).norm();
+        const double across = (path_[3] - path_[2]).norm();
+        const double f = across > 0 ? std::clamp((travelled_ - before) / across, 0.0, 1.0)
+                                    : (travelled_ > before ? 1.0 : 0.0);
         pose_.centre = along_path(travelled_);
         pose_.axes = q_from_.slerp(f, q_to_).toRotationMatrix();
         reading_ = read(pose_, 0.0);
@@ -410,6 +534,7 @@ class Explorer {
   Eigen::Vector3d direction_ = Eigen::Vector3d::UnitX();
   Eigen::Vector3d last_normal_ = Eigen::Vector3d::Zero();
   double sweep_length_ = 0, force_ = 0, travelled_ = 0;
+  bool arrive_vertically_ = true;
   std::vector<Eigen::Vector3d> path_;
   double path_length_ = 0;
   Eigen::Quaterniond q_from_, q_to_;

@@ -255,7 +255,11 @@ inline std::vector<SimObject> load_mesh_objects(const std::string& dir, std::opt
     }
     TriangleMesh mesh = load_mesh(path);
     scale_mesh(mesh, scale);
-    objects.push_back(make_sim_object(stem, std::move(mesh), true));
+    try {
+      objects.push_back(make_sim_object(stem, std::move(mesh), true));
+    } catch (const InvalidArgument& e) {  // e.g. a flat mesh, a name with a comma
+      throw InvalidArgument(path, e.what());
+    }
     if (progress) progress(i + 1, files.size());
   }
   return objects;

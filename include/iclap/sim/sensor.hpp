@@ -92,6 +92,10 @@ struct PadContact {
   std::vector<double> depth;
   std::vector<Eigen::Vector3d> normal;
   double max_depth = -std::numeric_limits<double>::infinity();
+  /// Samples whose surface lies further behind the pad plane than the probe's
+  /// `max_rise`: not felt (depth -inf), but the pad's body is inside the
+  /// object there. A planner must not go on like that.
+  Index blocked = 0;
   bool any_surface() const { return std::isfinite(max_depth); }
 };
 
@@ -131,14 +135,17 @@ class TactileSensorModel {
   }
 
   /// Casts one ray per sample along the pad's z from `behind` metres behind
-  /// the pad plane, reaching `ahead` metres past it; fills `out`.
-  /// Only front faces count: rays start outside the object.
+  /// the pad plane, reaching `ahead` metres past it; fills `out`. Only front
+  /// faces count (rays start outside the object). A surface found more than
+  /// `max_rise` behind the pad plane is not in front of the sensing face but
+  /// behind it: it is not felt and counts as `blocked`.
   void probe(const MeshBvh& shape, const PadPose& pose, PadContact& out, double behind = 0.03,
-             double ahead = 0.015) const {
+             double ahead = 0.015, double max_rise = 0.01) const {
     const std::size_t n = static_cast<std::size_t>(sample_count());
     out.depth.assign(n, -std::numeric_limits<double>::infinity());
     out.normal.assign(n, Eigen::Vector3d::Zero());
     out.max_depth = -std::numeric_limits<double>::infinity();
+    out.blocked = 0;
     const Eigen::Vector3d ex = pose.axes.col(0), ey = pose.axes.col(1), ez = pose.axes.col(2);
     for (Index i = 0; i < nx_; ++i)
       for (Index j = 0; j < ny_; ++j) {
@@ -147,6 +154,10 @@ class TactileSensorModel {
         const auto hit = shape.intersect(origin, ez, behind + ahead, RaySide::front);
         if (!hit) continue;
         const std::size_t k = static_cast<std::size_t>(i * ny_ + j);
+        if (behind - hit->t > max_rise) {
+          ++out.blocked;
+          continue;
+        }
         out.depth[k] = behind - hit->t;
         out.normal[k] = hit->normal;
         out.max_depth = std::max(out.max_depth, out.depth[k]);
