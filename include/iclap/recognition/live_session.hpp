@@ -1,0 +1,613 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+/// Live recognition (the paper's Discussion, "Haptic exploration"): the
+/// ranking of the known objects is updated after every touch, and the
+/// exploration stops as soon as the decision is confident enough instead of
+/// after a fixed number of touches.
+///
+///  - LiveReferences: what a live run recognises against, built once from a
+///    training touch table (codebook, one reference touch set per object,
+///    fitted recogniser, the fusion to apply).
+///  - LiveSession: the touches of one exploration so far and the ranking
+///    they give; add_touch() recomputes it.
+///  - LiveStopRule: when to stop (confidence threshold, touch limits).
+///  - choose_live_weights(): fusion weights for a method whose weights are
+///    fitted, by leave-one-exploration-out grid search on the references
+///    (reuses CrossValidation).
+///  - evaluate_live_stopping(): replays held-out explorations touch by touch
+///    in time order and measures the stop rule against fixed touch counts.
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <numeric>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "iclap/core/check.hpp"
+#include "iclap/core/error.hpp"
+#include "iclap/core/progress.hpp"
+#include "iclap/recognition/cross_validation.hpp"
+#include "iclap/recognition/fusion.hpp"
+#include "iclap/recognition/methods.hpp"
+#include "iclap/recognition/normalization.hpp"
+#include "iclap/recognition/recognizer.hpp"
+#include "iclap/recognition/touch_set.hpp"
+#include "iclap/recognition/touch_table.hpp"
+#include "iclap/tactile/kmeans.hpp"
+#include "iclap/tactile/quantizer.hpp"
+
+namespace iclap {
+
+/// When a live exploration stops: as soon as the decision's confidence
+/// (decision_confidence of the fused distances) reaches `confidence` after
+/// at least `min_touches` touches, or after `max_touches` touches (0: no
+/// limit; the source running out also ends a run, which the caller sees).
+struct LiveStopRule {
+  double confidence = 0.5;  ///< in [0, 1]; 0 stops at min_touches, above 1 never (not allowed)
+  Index min_touches = 1;    ///< >= 1
+  Index max_touches = 0;    ///< 0: no limit; otherwise >= min_touches
+
+  /// Throws InvalidArgument naming the member and the value.
+  void validate() const {
+    if (!(confidence >= 0 && confidence <= 1))
+      throw InvalidArgument("confidence", "must be in [0, 1], got " + std::to_string(confidence));
+    if (min_touches < 1) throw InvalidArgument("min_touches", "must be >= 1, got " + std::to_string(min_touches));
+    if (max_touches < 0 || (max_touches > 0 && max_touches < min_touches))
+      throw InvalidArgument("max_touches", "must be 0 (no limit) or >= min_touches (" + std::to_string(min_touches) +
+                                               "), got " + std::to_string(max_touches));
+  }
+};
+
+/// Why a live session asks to stop.
+enum class LiveStop {
+  kContinue,   ///< not yet: take another touch
+  kConfident,  ///< the confidence reached the threshold (after min_touches)
+  kTouchLimit  ///< max_touches touches taken without a confident decision
+};
+
+inline const char* to_string(LiveStop s) noexcept {
+  switch (s) {
+    case LiveStop::kContinue: return "continue";
+    case LiveStop::kConfident: return "confident";
+    case LiveStop::kTouchLimit: return "touch limit";
+  }
+  return "unknown";
+}
+
+/// The object order of `fused` distances, best (smallest) first; ties keep
+/// the smaller index first, like decide(). O(N log N).
+inline std::vector<Index> rank_objects(const Eigen::Ref<const Eigen::VectorXd>& fused) {
+  std::vector<Index> order(static_cast<std::size_t>(fused.size()));
+  std::iota(order.begin(), order.end(), Index{0});
+  std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return fused(a) < fused(b); });
+  return order;
+}
+
+/// The incremental recognition state of one live exploration: the touches
+/// so far (positions, descriptors, words) and, after each add_touch(), the
+/// normalised distances of every classifier the fusion uses, the fused
+/// distances, the ranking, the best guess and its confidence.
+///
+/// Every update recognises all touches so far from scratch with the
+/// recogniser (normalisation is over the objects, so it cannot be updated
+/// per touch; registration restarts from the identity), so the state after n
+/// touches equals `recognizer.distances()` of the same n touches: O(cost of
+/// one recognition of n touches) per update. The recogniser must be fitted,
+/// must outlive the session and must not be refitted while it is in use.
+/// Not thread-safe (sessions on the same recogniser in different threads
+/// are: the recogniser's distances are const).
+class LiveSession {
+ public:
+  /// `vocabulary`: the codebook size the recogniser was fitted with, to
+  /// check words (0: unchecked). Throws InvalidArgument for an unfitted
+  /// recogniser, a fusion that needs a classifier the recogniser lacks (or
+  /// multiplies signed distances), or an invalid stop rule.
+  LiveSession(const Recognizer& recognizer, Fusion fusion, LiveStopRule rule = {}, Index vocabulary = 0)
+      : recognizer_(&recognizer),
+        fusion_(std::move(fusion)),
+        rule_(rule),
+        vocabulary_(vocabulary),
+        only_(fusion_.classifiers()) {
+    rule_.validate();
+    if (vocabulary_ < 0) throw InvalidArgument("vocabulary", "must be >= 0, got " + std::to_string(vocabulary_));
+    if (recognizer.objects() < 1) throw InvalidArgument("recognizer", "is not fitted (no object to recognise)");
+    recognizer.check({Method{fusion_.to_string(), fusion_, false}});
+    touches_.positions.resize(3, 0);
+  }
+
+  /// Adds one touch and updates the ranking. `position`: pad centre
+  /// (metres, the references' frame); `feature`: its descriptor (may be
+  /// empty when no classifier of the fusion reads descriptors, but the same
+  /// length for every touch of a session); `word`: its codebook word in
+  /// [0, vocabulary). Throws NonFiniteValue / DimensionMismatch /
+  /// InvalidArgument naming the argument; the session is unchanged then.
+  LiveStop add_touch(const Eigen::Vector3d& position, const Eigen::Ref<const Eigen::VectorXf>& feature, Index word) {
+    check_finite(position, "position");
+    check_finite(feature, "feature");
+    if (word < 0 || (vocabulary_ > 0 && word >= vocabulary_))
+      throw InvalidArgument("word", std::to_string(word) + " is outside [0, " +
+                                        (vocabulary_ > 0 ? std::to_string(vocabulary_) : std::string("inf")) + ")");
+    const Index n = touches_.size();
+    if (n > 0) check_dimension(feature.size(), touches_.features.rows(), "feature");
+    TouchSet next = touches_;
+    next.positions.conservativeResize(3, n + 1);
+    next.positions.col(n) = position;
+    if (feature.size() > 0) {
+      next.features.conservativeResize(feature.size(), n + 1);
+      next.features.col(n) = feature;
+    }
+    next.words.conservativeResize(n + 1);
+    next.words(n) = word;
+    DistanceTable table = recognizer_->distances(next, only_);  // throws before anything changes
+    Eigen::VectorXd fused = fusion_.evaluate(table);
+    touches_ = std::move(next);
+    table_ = std::move(table);
+    fused_ = std::move(fused);
+    ranking_ = rank_objects(fused_);
+    confidence_ = decision_confidence(fused_);
+    history_.push_back(Step{ranking_.front(), confidence_});
+    return stop();
+  }
+
+  /// Forgets every touch (a new exploration with the same references).
+  void reset() {
+    touches_ = TouchSet{};
+    touches_.positions.resize(3, 0);
+    table_.clear();
+    fused_.resize(0);
+    ranking_.clear();
+    confidence_ = 0;
+    history_.clear();
+  }
+
+  /// Whether to stop now (kContinue before the first touch).
+  LiveStop stop() const {
+    const Index n = touches();
+    if (n == 0) return LiveStop::kContinue;
+    if (n >= rule_.min_touches && confidence_ >= rule_.confidence) return LiveStop::kConfident;
+    if (rule_.max_touches > 0 && n >= rule_.max_touches) return LiveStop::kTouchLimit;
+    return LiveStop::kContinue;
+  }
+
+  Index touches() const noexcept { return touches_.size(); }
+  Index objects() const { return recognizer_->objects(); }
+  /// The recognised object (index into the references' objects), -1 before
+  /// the first touch.
+  Index best() const noexcept { return ranking_.empty() ? -1 : ranking_.front(); }
+  /// decision_confidence() of the fused distances: the relative margin
+  /// 1 - best / second best, in [0, 1]; 0 before the first touch.
+  double confidence() const noexcept { return confidence_; }
+  /// Objects, best first (empty before the first touch).
+  const std::vector<Index>& ranking() const noexcept { return ranking_; }
+  /// Fused distance of every object (empty before the first touch).
+  const Eigen::VectorXd& fused() const noexcept { return fused_; }
+  /// Normalised distances of each classifier the fusion uses.
+  const DistanceTable& distances() const noexcept { return table_; }
+  /// The touches so far, in the order added.
+  const TouchSet& touch_set() const noexcept { return touches_; }
+  const Fusion& fusion() const noexcept { return fusion_; }
+  const LiveStopRule& rule() const noexcept { return rule_; }
+
+  /// Best object and confidence after each touch so far (element n - 1:
+  /// after n touches).
+  struct Step {
+    Index best = -1;
+    double confidence = 0;
+  };
+  const std::vector<Step>& history() const noexcept { return history_; }
+
+ private:
+  const Recognizer* recognizer_;
+  Fusion fusion_;
+  LiveStopRule rule_;
+  Index vocabulary_ = 0;
+  std::vector<std::string> only_;
+  TouchSet touches_;
+  DistanceTable table_;
+  Eigen::VectorXd fused_;
+  std::vector<Index> ranking_;
+  double confidence_ = 0;
+  std::vector<Step> history_;
+};
+
+/// What a live run recognises against: the objects of a training touch
+/// table, the codebook fitted on its training touches, one reference touch
+/// set per object, the recogniser fitted on them, and the fusion to apply
+/// (fixed weights: choose fitted ones first, see choose_live_weights).
+///
+/// Immutable after construction; word() and the recogniser's distances are
+/// const and thread-safe, so sessions in several threads may share it.
+template <typename Quantizer = KMeansQuantizer<float>>
+class LiveReferences {
+  ICLAP_CHECK_QUANTIZER(Quantizer, Eigen::MatrixXf);
+
+ public:
+  /// Builds the references from the touches `train` of `table` (indices;
+  /// empty: every touch): fits a copy of `quantizer` on their descriptors,
+  /// gives every touch its word, fits the classifiers `factory` makes on one
+  /// touch set per object. Throws InvalidArgument naming "table" when an
+  /// object has no training touch, "factory" when it is empty, and what the
+  /// recogniser throws for a fusion it cannot evaluate.
+  LiveReferences(const TouchTable& table, const std::vector<Index>& train, const ClassifierFactory& factory,
+                 Quantizer quantizer, Fusion fusion, Normalization normalization = Normalization::L2)
+      : objects_(table.objects),
+        quantizer_(std::move(quantizer)),
+        recognizer_(make(factory), normalization),
+        fusion_(std::move(fusion)),
+        feature_length_(table.touches.features.rows()) {
+    if (table.size() == 0) throw EmptyInput("table", "holds no touch");
+    recognizer_.check({Method{fusion_.to_string(), fusion_, false}});
+    std::vector<Index> all;
+    const std::vector<Index>* use = &train;
+    if (train.empty()) {
+      all.resize(static_cast<std::size_t>(table.size()));
+      std::iota(all.begin(), all.end(), Index{0});
+      use = &all;
+    }
+    Eigen::MatrixXf features(table.touches.features.rows(), static_cast<Index>(use->size()));
+    for (std::size_t j = 0; j < use->size(); ++j) {
+      const Index i = (*use)[j];
+      if (i < 0 || i >= table.size())
+        throw InvalidArgument("train", "touch " + std::to_string(i) + " is outside [0, " + std::to_string(table.size()) + ")");
+      features.col(static_cast<Index>(j)) = table.touches.features.col(i);
+    }
+    quantizer_.fit(features);
+    const WordIds words = assign_words(quantizer_, features);
+    std::vector<std::vector<Index>> per_object(objects_.size());
+    for (std::size_t j = 0; j < use->size(); ++j)
+      per_object[static_cast<std::size_t>(table.object[static_cast<std::size_t>((*use)[j])])].push_back(static_cast<Index>(j));
+    TouchSet train_set = select_touches(table.touches, *use);
+    train_set.words = words;
+    std::vector<TouchSet> references;
+    for (std::size_t o = 0; o < objects_.size(); ++o) {
+      if (per_object[o].empty())
+        throw InvalidArgument("table", "object '" + objects_[o] + "' has no training touch");
+      references.push_back(select_touches(train_set, per_object[o]));
+      touches_per_object_.push_back(static_cast<Index>(per_object[o].size()));
+    }
+    recognizer_.fit(references, static_cast<Index>(quantizer_.size()));
+  }
+
+  /// The codebook word of one descriptor (same length as the table's).
+  /// Throws DimensionMismatch / NonFiniteValue naming "feature".
+  Index word(const Eigen::Ref<const Eigen::VectorXf>& feature) const {
+    check_dimension(feature.size(), feature_length(), "feature");
+    check_finite(feature, "feature");
+    const Eigen::MatrixXf f = feature;
+    return assign_words(quantizer_, f)(0);
+  }
+
+  /// A new session on these references.
+  LiveSession session(LiveStopRule rule = {}) const { return LiveSession(recognizer_, fusion_, rule, vocabulary()); }
+
+  const std::vector<std::string>& objects() const noexcept { return objects_; }
+  /// Training touches of each object.
+  const std::vector<Index>& touches_per_object() const noexcept { return touches_per_object_; }
+  const Quantizer& quantizer() const noexcept { return quantizer_; }
+  Index vocabulary() const { return static_cast<Index>(quantizer_.size()); }
+  Index feature_length() const { return feature_length_; }
+  const Recognizer& recognizer() const noexcept { return recognizer_; }
+  const Fusion& fusion() const noexcept { return fusion_; }
+
+ private:
+  static std::vector<std::unique_ptr<Classifier>> make(const ClassifierFactory& factory) {
+    if (!factory) throw InvalidArgument("factory", "is empty");
+    return factory();
+  }
+
+  std::vector<std::string> objects_;
+  Quantizer quantizer_;
+  Recognizer recognizer_;
+  Fusion fusion_;
+  std::vector<Index> touches_per_object_;
+  Index feature_length_ = 0;
+};
+
+/// Fusion weights chosen for live recognition on the references alone.
+struct LiveWeights {
+  Fusion fusion;                ///< the method's fusion with the chosen weights
+  std::vector<double> weights;  ///< the chosen grid vector (empty: the method's weights are fixed)
+  Index correct = 0;            ///< held-out test sets recognised with them, summed over folds and touch counts
+  Index total = 0;              ///< held-out test sets in all
+  int folds = 0;                ///< explorations held out in turn (0: nothing searched)
+};
+
+/// Chooses the weights of a method whose top-level weighted sum is fitted
+/// (`a+b` without numbers; Method::fit_weights) for live recognition against
+/// references built from all of `table`: the paper's brute-force grid,
+/// scored by leave-one-exploration-out recognition on `table` itself (each
+/// exploration rank held out of every object in turn, codebook and
+/// references from the rest, `settings.weight_repeats` random draws of each
+/// of `settings.touches` touches). That is CrossValidation's inner search
+/// with the whole table as the training set; it runs CrossValidation and
+/// reads the rates of every grid vector from its weight sweeps. Highest
+/// number of correct tests wins; ties go to the earlier grid vector (the
+/// sweep does not report CrossValidation's margin tie-break). A method with
+/// fixed weights is returned as it is, with nothing searched.
+///
+/// Throws what CrossValidation throws (e.g. InvalidArgument naming "table"
+/// when an object has fewer than 2 explorations with touches). `progress`
+/// is CrossValidation's. Deterministic for a given seed, any thread count.
+template <typename Quantizer>
+LiveWeights choose_live_weights(const TouchTable& table, const ClassifierFactory& factory, const Quantizer& quantizer,
+                                const Method& method, CrossValidationSettings settings,
+                                const ProgressCallback& progress = {}) {
+  LiveWeights out{method.fusion, {}, 0, 0, 0};
+  if (!method.fit_weights) return out;
+  settings.weight_sweeps = true;
+  settings.repeats = settings.weight_repeats;
+  CrossValidation<Quantizer> cv(table, factory, quantizer, {method}, settings);
+  const CrossValidationResult r = cv.run(progress);
+  const WeightSweep& sweep = r.sweeps.at(0);
+  std::size_t best = 0;
+  Index best_correct = -1;
+  for (std::size_t g = 0; g < sweep.grid.size(); ++g) {
+    Index correct = 0;
+    for (Index c : sweep.correct[g]) correct += c;
+    if (correct > best_correct) {
+      best = g;
+      best_correct = correct;
+    }
+  }
+  out.weights = sweep.grid[best];
+  out.fusion = method.fusion.with_weights(out.weights);
+  out.correct = best_correct;
+  for (Index t : sweep.total) out.total += t;
+  out.folds = r.folds;
+  return out;
+}
+
+/// Settings of evaluate_live_stopping.
+struct LiveEvaluationSettings {
+  /// Touches replayed per held-out exploration at most (>= 1): the stop
+  /// rules evaluated may not exceed it.
+  Index max_touches = 20;
+  /// The CrossValidation run that chooses each fold's fusion weights (for a
+  /// fitted method, on inner folds of that fold's training explorations, as
+  /// `iclap evaluate` does) and gives the method's rate on random draws of
+  /// `touches` touches, for comparison. Its normalisation and thread count
+  /// also apply to the replays. Default: 1..20 touches, 10 draws, no sweeps.
+  CrossValidationSettings cross_validation = [] {
+    CrossValidationSettings s;
+    s.weight_sweeps = false;
+    return s;
+  }();
+
+  void validate() const {
+    if (max_touches < 1) throw InvalidArgument("max_touches", "must be >= 1, got " + std::to_string(max_touches));
+    cross_validation.validate();
+  }
+};
+
+/// One held-out exploration replayed touch by touch in time order (frame
+/// index): element n - 1 of each vector is the state after n touches.
+struct LiveTrace {
+  int fold = 0;
+  Index object = 0;               ///< the true object
+  std::int64_t exploration = 0;   ///< its exploration id
+  Index available = 0;            ///< touches the exploration has (may exceed the replayed ones)
+  std::vector<Index> best;        ///< recognised object
+  std::vector<double> confidence; ///< decision_confidence of the fused distances
+  std::vector<Eigen::VectorXd> fused;  ///< fused distances (for studying other confidence measures)
+
+  Index replayed() const noexcept { return static_cast<Index>(best.size()); }
+};
+
+/// Outcome of a stop rule over every replayed exploration.
+struct LiveStopOutcome {
+  LiveStopRule rule;
+  Index tests = 0;        ///< explorations replayed
+  Index correct = 0;      ///< recognised correctly when the rule stopped
+  Index confident = 0;    ///< stopped by the confidence (not by running out or the limit)
+  double mean_touches = 0;
+  double median_touches = 0;
+  std::vector<Index> touches;  ///< touches used by each test, in trace order
+
+  double accuracy() const { return tests ? static_cast<double>(correct) / static_cast<double>(tests) : 0.0; }
+};
+
+/// Rate of a fixed number of touches taken in time order.
+struct LiveFixedOutcome {
+  Index touches = 0;
+  Index tests = 0;
+  Index correct = 0;
+  Index short_tests = 0;  ///< explorations with fewer touches: they use all of theirs
+
+  double accuracy() const { return tests ? static_cast<double>(correct) / static_cast<double>(tests) : 0.0; }
+};
+
+/// Result of evaluate_live_stopping.
+struct LiveEvaluationResult {
+  std::vector<std::string> objects;
+  int folds = 0;
+  Index max_touches = 0;
+  /// The fusion of each fold (weights chosen on its training explorations).
+  std::vector<std::string> fold_expressions;
+  /// Fold-major, objects in order within a fold; explorations without a
+  /// touch are left out.
+  std::vector<LiveTrace> traces;
+  /// The CrossValidation run: the method's rate on random touch draws.
+  CrossValidationResult random_draws;
+
+  /// Where `rule` stops on every trace: the first n in [min_touches, limit]
+  /// whose confidence reaches rule.confidence, else the limit, which is
+  /// rule.max_touches (0: this result's max_touches) or the touches the
+  /// exploration has, whichever is smaller. Throws InvalidArgument naming
+  /// "rule" when its max_touches exceeds what was replayed.
+  LiveStopOutcome stop(const LiveStopRule& rule) const {
+    rule.validate();
+    if (rule.max_touches > max_touches)
+      throw InvalidArgument("rule", "max_touches " + std::to_string(rule.max_touches) + " exceeds the " +
+                                        std::to_string(max_touches) + " touches replayed");
+    const Index cap = rule.max_touches > 0 ? rule.max_touches : max_touches;
+    LiveStopOutcome out;
+    out.rule = rule;
+    for (const auto& t : traces) {
+      const Index limit = std::min(cap, t.replayed());
+      Index n = limit;
+      bool confident = false;
+      for (Index k = std::min(rule.min_touches, limit); k <= limit; ++k)
+        if (t.confidence[static_cast<std::size_t>(k - 1)] >= rule.confidence) {
+          n = k;
+          confident = true;
+          break;
+        }
+      ++out.tests;
+      out.correct += t.best[static_cast<std::size_t>(n - 1)] == t.object;
+      out.confident += confident;
+      out.touches.push_back(n);
+    }
+    if (!out.touches.empty()) {
+      double sum = 0;
+      for (Index n : out.touches) sum += static_cast<double>(n);
+      out.mean_touches = sum / static_cast<double>(out.touches.size());
+      std::vector<Index> sorted = out.touches;
+      std::sort(sorted.begin(), sorted.end());
+      const std::size_t m = sorted.size() / 2;
+      out.median_touches = sorted.size() % 2 ? static_cast<double>(sorted[m])
+                                             : 0.5 * static_cast<double>(sorted[m - 1] + sorted[m]);
+    }
+    return out;
+  }
+
+  /// Rate of the first `touches` touches of every trace (all of them when an
+  /// exploration has fewer). Throws InvalidArgument naming "touches" outside
+  /// [1, max_touches].
+  LiveFixedOutcome fixed(Index touches) const {
+    if (touches < 1 || touches > max_touches)
+      throw InvalidArgument("touches", std::to_string(touches) + " is outside [1, " + std::to_string(max_touches) + "]");
+    LiveFixedOutcome out;
+    out.touches = touches;
+    for (const auto& t : traces) {
+      const Index n = std::min(touches, t.replayed());
+      ++out.tests;
+      out.short_tests += n < touches;
+      out.correct += t.best[static_cast<std::size_t>(n - 1)] == t.object;
+    }
+    return out;
+  }
+};
+
+/// The confidence-based stop (the paper's Discussion, "Haptic exploration")
+/// measured by cross validation: fold f holds out the f-th exploration of
+/// every object, as in CrossValidation (same folds, same training touches,
+/// same codebook, the weights CrossValidation chose for the fold); the
+/// references come from the other explorations; each held-out exploration
+/// is replayed in time order (frame index), one touch at a time, up to
+/// settings.max_touches, and the session's state after every touch is
+/// recorded. Any stop rule and fixed count are then read off the traces
+/// (LiveEvaluationResult::stop / fixed).
+///
+/// Deterministic: the replays have no randomness and the CrossValidation run
+/// is seeded; results do not depend on the thread count. `progress` gets
+/// (replayed explorations, explorations) after CrossValidation's own run.
+/// Throws what CrossValidation throws (fewer than 2 explorations of an
+/// object, a method that needs a classifier the factory lacks).
+template <typename Quantizer>
+LiveEvaluationResult evaluate_live_stopping(const TouchTable& table, const ClassifierFactory& factory,
+                                            const Quantizer& quantizer, const Method& method,
+                                            const LiveEvaluationSettings& settings,
+                                            const ProgressCallback& cv_progress = {},
+                                            const ProgressCallback& progress = {}) {
+  settings.validate();
+  const CrossValidationSettings& cvs = settings.cross_validation;
+  CrossValidation<Quantizer> cv(table, factory, quantizer, {method}, cvs);
+  LiveEvaluationResult out;
+  out.random_draws = cv.run(cv_progress);
+  out.objects = table.objects;
+  out.folds = cv.folds();
+  out.max_touches = settings.max_touches;
+  const MethodResult& mr = out.random_draws.methods.at(0);
+
+  const auto n_objects = static_cast<Index>(table.objects.size());
+  std::vector<std::vector<std::int64_t>> ids;
+  for (Index o = 0; o < n_objects; ++o) ids.push_back(table.explorations_of(o));
+  auto rank_of = [&](Index i) {
+    const auto& v = ids[static_cast<std::size_t>(table.object[static_cast<std::size_t>(i)])];
+    return static_cast<int>(std::lower_bound(v.begin(), v.end(), table.exploration[static_cast<std::size_t>(i)]) -
+                            v.begin());
+  };
+  std::size_t total = 0;
+  for (int f = 0; f < out.folds; ++f)
+    for (Index o = 0; o < n_objects; ++o) total += static_cast<std::size_t>(f) < ids[static_cast<std::size_t>(o)].size();
+  std::atomic<std::size_t> done{0};
+
+  for (int f = 0; f < out.folds; ++f) {
+    const Fusion fusion = method.fit_weights ? method.fusion.with_weights(mr.fold_weights.at(static_cast<std::size_t>(f)))
+                                             : method.fusion;
+    out.fold_expressions.push_back(fusion.to_string());
+    std::vector<Index> train;
+    std::vector<std::vector<Index>> held(static_cast<std::size_t>(n_objects));
+    for (Index i = 0; i < table.size(); ++i) {
+      if (rank_of(i) != f) train.push_back(i);
+      else held[static_cast<std::size_t>(table.object[static_cast<std::size_t>(i)])].push_back(i);
+    }
+    const LiveReferences<Quantizer> refs(table, train, factory, quantizer, fusion, cvs.normalization);
+    std::vector<LiveTrace> traces(static_cast<std::size_t>(n_objects));
+    std::atomic<Index> next{0};
+    std::exception_ptr error;
+    std::mutex error_mutex;
+    auto worker = [&] {
+      LiveStopRule rule;
+      rule.confidence = 1.0;
+      for (;;) {
+        const Index o = next++;
+        if (o >= n_objects) return;
+        auto& idx = held[static_cast<std::size_t>(o)];
+        if (idx.empty()) continue;
+        try {
+          std::stable_sort(idx.begin(), idx.end(), [&](Index a, Index b) {
+            return table.frame[static_cast<std::size_t>(a)] < table.frame[static_cast<std::size_t>(b)];
+          });
+          LiveTrace& t = traces[static_cast<std::size_t>(o)];
+          t.fold = f;
+          t.object = o;
+          t.exploration = table.exploration[static_cast<std::size_t>(idx.front())];
+          t.available = static_cast<Index>(idx.size());
+          LiveSession s = refs.session(rule);
+          const Index n = std::min(settings.max_touches, t.available);
+          for (Index k = 0; k < n; ++k) {
+            const Index i = idx[static_cast<std::size_t>(k)];
+            const auto feature = table.touches.features.col(i);
+            s.add_touch(table.touches.positions.col(i), feature, refs.word(feature));
+            t.best.push_back(s.best());
+            t.confidence.push_back(s.confidence());
+            t.fused.push_back(s.fused());
+          }
+        } catch (...) {
+          std::lock_guard<std::mutex> lock(error_mutex);
+          if (!error) error = std::current_exception();
+          next = n_objects;
+          return;
+        }
+        const std::size_t d = ++done;
+        if (progress) {
+          std::lock_guard<std::mutex> lock(error_mutex);
+          progress(d, total);
+        }
+      }
+    };
+    unsigned threads = cvs.threads > 0 ? static_cast<unsigned>(cvs.threads) : std::thread::hardware_concurrency();
+    threads = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(n_objects)));
+    std::vector<std::thread> pool;
+    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
+    worker();
+    for (auto& th : pool) th.join();
+    if (error) std::rethrow_exception(error);
+    for (auto& t : traces)
+      if (!t.best.empty()) out.traces.push_back(std::move(t));
+  }
+  return out;
+}
+
+}  // namespace iclap

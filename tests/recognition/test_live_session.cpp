@@ -1,0 +1,367 @@
+// SPDX-License-Identifier: MIT
+// Live recognition: the incremental session against from-scratch
+// recognition, the stop rule, references, weight choice and the
+// cross-validated replay of the confidence-based stop, on small synthetic
+// touch data.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "iclap/core/random.hpp"
+#include "iclap/recognition/live_session.hpp"
+#include "iclap/recognition/recognition.hpp"
+
+using namespace iclap;
+
+namespace {
+
+/// Three objects on a table, 4 explorations each, 20 touches per
+/// exploration in time order (frame index), stored shuffled within each
+/// exploration so that time order has to be restored: a bar (object 0), a
+/// ring (object 1) and the bar with another feel at one end (object 2).
+/// Features are 4-D: one "pattern" per local shape, plus noise.
+TouchTable synthetic_table(std::uint64_t seed, double feature_noise = 0.05) {
+  TouchTable t;
+  t.objects = {"bar", "ring", "bar_hooked"};
+  Rng rng(seed);
+  const int per = 20;
+  const int n = 3 * 4 * per;
+  t.touches.positions.resize(3, n);
+  t.touches.features.resize(4, n);
+  Index j = 0;
+  for (Index o = 0; o < 3; ++o) {
+    for (std::int64_t e = 0; e < 4; ++e) {
+      const Eigen::Vector3d shift(rng.uniform(-0.002, 0.002), rng.uniform(-0.002, 0.002), 0.0);
+      for (int i = 0; i < per; ++i) {
+        const double u = rng.uniform();
+        Eigen::Vector3d p;
+        Eigen::Vector4f f = Eigen::Vector4f::Zero();
+        if (o == 1) {
+          const double a = 2 * 3.141592653589793 * u;
+          p << 0.03 * std::cos(a), 0.03 * std::sin(a), 0.01;
+          f(1) = 1;
+        } else {
+          p << -0.06 + 0.12 * u, 0.0, 0.01;
+          f(u > 0.8 ? (o == 0 ? 2 : 3) : 0) = 1;
+        }
+        p += shift + Eigen::Vector3d(rng.normal(0, 3e-4), rng.normal(0, 3e-4), rng.normal(0, 3e-4));
+        for (Index k = 0; k < 4; ++k) f(k) += static_cast<float>(rng.normal(0, feature_noise));
+        t.touches.positions.col(j) = p;
+        t.touches.features.col(j) = f;
+        t.object.push_back(o);
+        t.exploration.push_back(e + 10);
+        t.frame.push_back((i * 7) % per);  // a permutation of 0..19: file order is not time order
+        ++j;
+      }
+    }
+  }
+  return t;
+}
+
+std::vector<std::unique_ptr<Classifier>> classifiers() {
+  std::vector<std::unique_ptr<Classifier>> cs;
+  cs.push_back(std::make_unique<BowClassifier>());
+  cs.push_back(std::make_unique<IcpClassifier<float, Planar>>());
+  auto iclap = std::make_unique<IclapClassifier<float, Planar>>();
+  iclap->embedding.label_scale = 0.01;
+  cs.push_back(std::move(iclap));
+  return cs;
+}
+
+KMeansQuantizer<float> codebook() {
+  KMeansQuantizer<float> q;
+  q.settings.k = 4;
+  q.settings.seed = 3;
+  return q;
+}
+
+/// Touches of exploration `id` (all objects) and of the others.
+void split(const TouchTable& t, std::int64_t id, std::vector<Index>& held, std::vector<Index>& train) {
+  for (Index i = 0; i < t.size(); ++i)
+    (t.exploration[static_cast<std::size_t>(i)] == id ? held : train).push_back(i);
+}
+
+std::vector<Index> of_object(const TouchTable& t, const std::vector<Index>& idx, Index o) {
+  std::vector<Index> out;
+  for (Index i : idx)
+    if (t.object[static_cast<std::size_t>(i)] == o) out.push_back(i);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("live session: each update equals a from-scratch recognition of the same touches") {
+  const TouchTable t = synthetic_table(1);
+  std::vector<Index> held, train;
+  split(t, 13, held, train);
+  const Fusion fusion = parse_method("0.5*iclap+0.3*icp+0.2*bow").fusion;
+  const LiveReferences<> refs(t, train, classifiers, codebook(), fusion);
+  REQUIRE(refs.objects() == t.objects);
+  CHECK(refs.vocabulary() == 4);
+  CHECK(refs.feature_length() == 4);
+  CHECK(refs.touches_per_object() == std::vector<Index>{60, 60, 60});
+
+  // An independent recogniser on the same references, built by hand.
+  KMeansQuantizer<float> q = codebook();
+  Eigen::MatrixXf train_features(4, static_cast<Index>(train.size()));
+  for (std::size_t j = 0; j < train.size(); ++j) train_features.col(static_cast<Index>(j)) = t.touches.features.col(train[j]);
+  q.fit(train_features);
+  TouchSet all = t.touches;
+  all.words = assign_words(q, t.touches.features);
+  std::vector<TouchSet> objects;
+  for (Index o = 0; o < 3; ++o) objects.push_back(select_touches(all, of_object(t, train, o)));
+  Recognizer scratch(classifiers());
+  scratch.fit(objects, q.size());
+
+  for (Index o = 0; o < 3; ++o) {
+    CAPTURE(o);
+    const auto test = of_object(t, held, o);
+    LiveSession s = refs.session(LiveStopRule{1.0, 1, 0});
+    for (std::size_t n = 1; n <= test.size(); ++n) {
+      const Index i = test[n - 1];
+      CHECK(refs.word(t.touches.features.col(i)) == all.words(i));  // same codebook
+      const LiveStop stop = s.add_touch(t.touches.positions.col(i), t.touches.features.col(i), all.words(i));
+      REQUIRE(s.touches() == static_cast<Index>(n));
+      const std::vector<Index> first(test.begin(), test.begin() + static_cast<std::ptrdiff_t>(n));
+      const DistanceTable d = scratch.distances(select_touches(all, first));
+      for (const char* c : {"bow", "icp", "iclap"}) {
+        CAPTURE(c);
+        CHECK(s.distances().get(c) == d.get(c));  // bit-identical: the same computation
+      }
+      const Eigen::VectorXd fused = fusion.evaluate(d);
+      CHECK(s.fused() == fused);
+      CHECK(s.best() == decide(fused));
+      CHECK(s.ranking().front() == s.best());
+      for (std::size_t r = 1; r < s.ranking().size(); ++r) CHECK(fused(s.ranking()[r - 1]) <= fused(s.ranking()[r]));
+      CHECK(s.confidence() == decision_confidence(fused));
+      CHECK(s.history().size() == n);
+      CHECK(s.history().back().best == s.best());
+      CHECK(stop == (s.confidence() >= 1.0 ? LiveStop::kConfident : LiveStop::kContinue));
+    }
+    CHECK(s.best() == o);  // all 20 touches recognise the object
+  }
+}
+
+TEST_CASE("live session: the stop rule") {
+  const TouchTable t = synthetic_table(2);
+  std::vector<Index> held, train;
+  split(t, 12, held, train);
+  const LiveReferences<> refs(t, train, classifiers, codebook(), parse_method("0.6*iclap+0.4*icp").fusion);
+  const auto test = of_object(t, held, 1);
+  auto add = [&](LiveSession& s, std::size_t k) {
+    const Index i = test[k];
+    return s.add_touch(t.touches.positions.col(i), t.touches.features.col(i), refs.word(t.touches.features.col(i)));
+  };
+  SUBCASE("threshold 0 stops at min_touches") {
+    LiveSession s = refs.session(LiveStopRule{0.0, 3, 0});
+    CHECK(add(s, 0) == LiveStop::kContinue);
+    CHECK(add(s, 1) == LiveStop::kContinue);
+    CHECK(add(s, 2) == LiveStop::kConfident);
+    CHECK(s.stop() == LiveStop::kConfident);
+  }
+  SUBCASE("threshold 1 is never reached with noisy touches: the limit stops") {
+    LiveSession s = refs.session(LiveStopRule{1.0, 1, 4});
+    for (std::size_t k = 0; k < 3; ++k) CHECK(add(s, k) == LiveStop::kContinue);
+    CHECK(add(s, 3) == LiveStop::kTouchLimit);
+    CHECK(s.confidence() < 1.0);
+  }
+  SUBCASE("a middle threshold stops exactly when the confidence first reaches it") {
+    // Find the confidences of the whole sequence, then pick a threshold
+    // between two of them.
+    LiveSession probe = refs.session(LiveStopRule{1.0, 1, 0});
+    std::vector<double> c;
+    for (std::size_t k = 0; k < test.size(); ++k) {
+      add(probe, k);
+      c.push_back(probe.confidence());
+    }
+    std::size_t first_max = 0;
+    for (std::size_t k = 0; k < c.size(); ++k)
+      if (c[k] > c[first_max]) first_max = k;
+    REQUIRE(c[first_max] > 0.1);
+    const double threshold = c[first_max];
+    LiveSession s = refs.session(LiveStopRule{threshold, 1, 0});
+    for (std::size_t k = 0; k < first_max; ++k) CHECK(add(s, k) == LiveStop::kContinue);
+    CHECK(add(s, first_max) == LiveStop::kConfident);
+    CHECK(s.best() == 1);
+  }
+  SUBCASE("reset starts a new exploration") {
+    LiveSession s = refs.session();
+    add(s, 0);
+    add(s, 1);
+    s.reset();
+    CHECK(s.touches() == 0);
+    CHECK(s.best() == -1);
+    CHECK(s.history().empty());
+    add(s, 2);
+    CHECK(s.touches() == 1);
+  }
+}
+
+TEST_CASE("live session: empty state and errors") {
+  const TouchTable t = synthetic_table(3);
+  std::vector<Index> held, train;
+  split(t, 10, held, train);
+  const LiveReferences<> refs(t, train, classifiers, codebook(), parse_method("0.5*icp+0.5*bow").fusion);
+  LiveSession s = refs.session(LiveStopRule{1.0, 1, 0});
+  CHECK(s.touches() == 0);
+  CHECK(s.best() == -1);
+  CHECK(s.confidence() == 0.0);
+  CHECK(s.ranking().empty());
+  CHECK(s.fused().size() == 0);
+  CHECK(s.distances().objects() == 0);
+  CHECK(s.stop() == LiveStop::kContinue);
+  CHECK(s.objects() == 3);
+
+  const Eigen::Vector3d p(0.01, 0, 0.01);
+  const Eigen::Vector4f f(1, 0, 0, 0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_AS(s.add_touch(Eigen::Vector3d(nan, 0, 0), f, 0), NonFiniteValue);
+  CHECK_THROWS_WITH_AS(s.add_touch(p, f, 4), "word: 4 is outside [0, 4)", InvalidArgument);
+  CHECK_THROWS_AS(s.add_touch(p, f, -1), InvalidArgument);
+  CHECK(s.touches() == 0);  // nothing changed
+  CHECK(s.add_touch(p, f, 0) == LiveStop::kContinue);
+  CHECK_THROWS_AS(s.add_touch(p, Eigen::Vector3f(1, 0, 0), 0), DimensionMismatch);
+  CHECK_THROWS_AS(s.add_touch(p, Eigen::Vector4f(std::numeric_limits<float>::infinity(), 0, 0, 0), 0),
+                  NonFiniteValue);
+  CHECK(s.touches() == 1);
+  CHECK(s.best() >= 0);
+
+  CHECK_THROWS_AS(refs.word(Eigen::Vector3f(1, 0, 0)), DimensionMismatch);
+  // Stop rules.
+  CHECK_THROWS_AS(refs.session(LiveStopRule{1.5, 1, 0}), InvalidArgument);
+  CHECK_THROWS_AS(refs.session(LiveStopRule{0.5, 0, 0}), InvalidArgument);
+  CHECK_THROWS_AS(refs.session(LiveStopRule{0.5, 3, 2}), InvalidArgument);
+  // A fusion over a classifier the recogniser lacks; an unfitted recogniser.
+  CHECK_THROWS_WITH_AS(LiveSession(refs.recognizer(), Fusion::classifier("iclapn")),
+                       doctest::Contains("iclapn"), InvalidArgument);
+  Recognizer unfitted(classifiers());
+  CHECK_THROWS_WITH_AS(LiveSession(unfitted, Fusion::classifier("icp")), doctest::Contains("not fitted"),
+                       InvalidArgument);
+  // References: an object without training touches; an empty factory.
+  std::vector<Index> no_ring;
+  for (Index i : train)
+    if (t.object[static_cast<std::size_t>(i)] != 1) no_ring.push_back(i);
+  CHECK_THROWS_WITH_AS(LiveReferences<>(t, no_ring, classifiers, codebook(), Fusion::classifier("icp")),
+                       "table: object 'ring' has no training touch", InvalidArgument);
+  CHECK_THROWS_AS(LiveReferences<>(t, train, ClassifierFactory{}, codebook(), Fusion::classifier("icp")),
+                  InvalidArgument);
+  CHECK_THROWS_AS(LiveReferences<>(t, {t.size()}, classifiers, codebook(), Fusion::classifier("icp")),
+                  InvalidArgument);
+}
+
+TEST_CASE("live weights: fixed methods pass through, fitted ones come from the grid") {
+  // Features are pure noise: BoW cannot tell the objects apart, ICP can.
+  const TouchTable t = synthetic_table(4, /*feature_noise=*/3.0);
+  CrossValidationSettings s;
+  s.touches = {2, 6};
+  s.weight_repeats = 2;
+  s.threads = 2;
+  const Method fixed = parse_method("0.3*icp+0.7*bow");
+  const LiveWeights w0 = choose_live_weights(t, classifiers, codebook(), fixed, s);
+  CHECK(w0.weights.empty());
+  CHECK(w0.folds == 0);
+  CHECK(w0.fusion.to_string() == "0.3*icp+0.7*bow");
+
+  const Method fitted = parse_method("icp+bow");
+  const LiveWeights w = choose_live_weights(t, classifiers, codebook(), fitted, s);
+  REQUIRE(w.weights.size() == 2);
+  CHECK(w.weights[0] + w.weights[1] == doctest::Approx(1.0));
+  CHECK(w.weights[0] >= 0.5);  // the informative classifier weighs more
+  CHECK(w.folds == 4);
+  CHECK(w.total == 4 * 3 * 2 * 2);  // folds x objects x touch counts x draws
+  CHECK(w.correct > w.total / 2);
+  CHECK(w.fusion.to_string() == fitted.fusion.with_weights(w.weights).to_string());
+  // Deterministic, whatever the thread count.
+  s.threads = 1;
+  CHECK(choose_live_weights(t, classifiers, codebook(), fitted, s).weights == w.weights);
+}
+
+TEST_CASE("live evaluation: replays held-out explorations in time order, deterministic for any thread count") {
+  const TouchTable t = synthetic_table(5);
+  LiveEvaluationSettings s;
+  s.max_touches = 12;
+  s.cross_validation.touches = {1, 4, 12};
+  s.cross_validation.repeats = 2;
+  s.cross_validation.weight_repeats = 1;
+  s.cross_validation.threads = 2;
+  const Method method = parse_method("iclap+icp");
+  const LiveEvaluationResult r = evaluate_live_stopping(t, classifiers, codebook(), method, s);
+  CHECK(r.folds == 4);
+  REQUIRE(r.traces.size() == 12);
+  REQUIRE(r.fold_expressions.size() == 4);
+  for (std::size_t f = 0; f < 4; ++f)  // the weights CrossValidation chose for each fold
+    CHECK(r.fold_expressions[f] == r.random_draws.methods[0].fold_expressions[f]);
+  for (const auto& tr : r.traces) {
+    CHECK(tr.available == 20);
+    CHECK(tr.replayed() == 12);
+    CHECK(tr.confidence.size() == 12);
+    CHECK(tr.fused.size() == 12);
+    CHECK(tr.exploration == 10 + tr.fold);
+  }
+
+  // Trace 0 (fold 0, bar) by hand: its first 12 touches in frame order.
+  {
+    std::vector<Index> held, train;
+    split(t, 10, held, train);
+    std::vector<Index> bar = of_object(t, held, 0);
+    std::sort(bar.begin(), bar.end(), [&](Index a, Index b) {
+      return t.frame[static_cast<std::size_t>(a)] < t.frame[static_cast<std::size_t>(b)];
+    });
+    const Fusion fold0 = method.fusion.with_weights(r.random_draws.methods[0].fold_weights[0]);
+    CHECK(fold0.to_string() == r.fold_expressions[0]);
+    const LiveReferences<> refs(t, train, classifiers, codebook(), fold0);
+    LiveSession sess = refs.session(LiveStopRule{1.0, 1, 0});
+    for (std::size_t k = 0; k < 12; ++k) {
+      const Index i = bar[k];
+      sess.add_touch(t.touches.positions.col(i), t.touches.features.col(i), refs.word(t.touches.features.col(i)));
+      CHECK(r.traces[0].best[k] == sess.best());
+      CHECK(r.traces[0].confidence[k] == sess.confidence());
+    }
+  }
+
+  // Stop outcomes read off the traces.
+  const LiveStopOutcome at0 = r.stop(LiveStopRule{0.0, 1, 0});
+  CHECK(at0.tests == 12);
+  CHECK(at0.mean_touches == 1.0);
+  CHECK(at0.confident == 12);
+  CHECK(at0.correct == r.fixed(1).correct);
+  const LiveStopOutcome never = r.stop(LiveStopRule{1.0, 1, 0});
+  CHECK(never.mean_touches == 12.0);
+  CHECK(never.median_touches == 12.0);
+  CHECK(never.confident == 0);
+  CHECK(never.correct == r.fixed(12).correct);
+  const LiveStopOutcome capped = r.stop(LiveStopRule{1.0, 1, 5});
+  CHECK(capped.mean_touches == 5.0);
+  CHECK(capped.correct == r.fixed(5).correct);
+  const LiveStopOutcome mid = r.stop(LiveStopRule{0.3, 2, 0});
+  for (std::size_t k = 0; k < r.traces.size(); ++k) {  // the first touch >= 2 reaching 0.3, else 12
+    const auto& c = r.traces[k].confidence;
+    Index expect = 12;
+    for (Index n = 2; n <= 12; ++n)
+      if (c[static_cast<std::size_t>(n - 1)] >= 0.3) {
+        expect = n;
+        break;
+      }
+    CHECK(mid.touches[k] == expect);
+  }
+  CHECK(r.fixed(12).accuracy() > 0.9);
+  CHECK_THROWS_AS(r.stop(LiveStopRule{0.5, 1, 13}), InvalidArgument);
+  CHECK_THROWS_AS(r.fixed(0), InvalidArgument);
+  CHECK_THROWS_AS(r.fixed(13), InvalidArgument);
+
+  s.cross_validation.threads = 1;
+  const LiveEvaluationResult r1 = evaluate_live_stopping(t, classifiers, codebook(), method, s);
+  REQUIRE(r1.traces.size() == r.traces.size());
+  for (std::size_t k = 0; k < r.traces.size(); ++k) {
+    CHECK(r1.traces[k].best == r.traces[k].best);
+    CHECK(r1.traces[k].confidence == r.traces[k].confidence);
+  }
+  CHECK(r1.fold_expressions == r.fold_expressions);
+
+  s.max_touches = 0;
+  CHECK_THROWS_AS(evaluate_live_stopping(t, classifiers, codebook(), method, s), InvalidArgument);
+}
