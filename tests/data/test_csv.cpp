@@ -368,6 +368,8 @@ TEST_CASE("dataset csv: fixtures and summary helpers") {
     CHECK(e.file() == fixture("bad_negative_pressure.csv"));
   }
   CHECK_THROWS_AS(iclap::read_dataset_csv(fixture("does_not_exist.csv")), iclap::IoError);
+  CHECK_THROWS_AS(iclap::read_dataset_csv(std::string(ICLAP_TEST_FIXTURES)), iclap::IoError);
+  CHECK_THROWS_AS(iclap::DatasetCsvAppender(std::string(ICLAP_TEST_FIXTURES), 1, 1, false, false), iclap::IoError);
 }
 
 TEST_CASE("dataset csv appender: create, append, reopen, mismatched header, complete rows") {

@@ -145,6 +145,7 @@ TEST_CASE("mesh io: more malformed input, from streams") {
 TEST_CASE("mesh io: load_mesh picks the format by extension, units") {
   CHECK_THROWS_AS(iclap::load_mesh(fixture("make_fixtures.py")), iclap::InvalidArgument);
   CHECK_THROWS_AS(iclap::load_mesh(fixture("missing.obj")), iclap::IoError);
+  CHECK_THROWS_AS(iclap::load_obj(std::string(ICLAP_TEST_FIXTURES)), iclap::IoError);
   CHECK(iclap::is_mesh_file("a/b.PLY"));
   CHECK_FALSE(iclap::is_mesh_file("a.ply/b"));
   CHECK(iclap::parse_length_unit("mm") == iclap::LengthUnit::millimetres);

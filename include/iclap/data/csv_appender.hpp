@@ -50,6 +50,7 @@ class DatasetCsvAppender {
     detail::validate_grid(columns.rows, columns.cols, "columns");
     detail::validate_comments(comments, "comments");
     std::error_code ec;
+    if (std::filesystem::is_directory(path_, ec)) throw IoError(path_, "is a directory, not a dataset file");
     const bool exists = std::filesystem::exists(path_, ec);
     const bool empty = exists && std::filesystem::file_size(path_, ec) == 0 && !ec;
     bool need_newline = false;

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iterator>
@@ -279,6 +280,8 @@ inline Dataset read_dataset_csv(std::istream& in, const std::string& name,
 /// Reads the dataset file at `path` (see the stream overload). Throws IoError
 /// if the file cannot be opened.
 inline Dataset read_dataset_csv(const std::string& path, const DatasetWarningHandler& on_warning = {}) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw IoError(path, "is a directory, not a dataset file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path, std::string("cannot open for reading: ") + std::strerror(errno));
   return read_dataset_csv(in, path, on_warning);

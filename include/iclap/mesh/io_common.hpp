@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <istream>
 #include <iterator>
@@ -29,6 +30,8 @@ inline std::string read_all(std::istream& in, const std::string& name) {
 
 /// The whole content of the file `path`; IoError if it cannot be opened.
 inline std::string read_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw IoError(path, "is a directory, not a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path, std::string("cannot open for reading: ") + std::strerror(errno));
   return read_all(in, path);
