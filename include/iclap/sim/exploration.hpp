@@ -17,6 +17,7 @@
 #include "iclap/core/error.hpp"
 #include "iclap/core/random.hpp"
 #include "iclap/data/dataset.hpp"
+#include "iclap/mesh/primitives.hpp"  // detail::kPi
 #include "iclap/sim/objects.hpp"
 #include "iclap/sim/sensor.hpp"
 
