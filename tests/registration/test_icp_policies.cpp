@@ -295,3 +295,44 @@ TEST_CASE("initial transform and centroid alignment") {
   const auto planar = Icp<double, 3, Planar>().align(ref, model, lifted);
   CHECK(planar.T_model_test.t(2) == doctest::Approx(0.5));
 }
+
+TEST_CASE("a resumable registration matches align and never increases the error") {
+  const Eigen::MatrixXd model = random_points(4, 150, 81);
+  Eigen::VectorXd t;
+  const Eigen::MatrixXd R = random_motion<FullRigid>(4, 0.3, 0.3, 82, t);
+  const Eigen::MatrixXd test = (R * random_points(4, 60, 83)).colwise() + t;
+  const ReferenceCloud<double, 4> ref(model);
+  Icp<double, 4, SpatialRigid> icp;
+  icp.termination.max_iterations = 40;
+  IcpWorkspace<double, 4> ws;
+  auto run = icp.start(ref, test, nullptr, ws);
+  CHECK(run.iterations() == 0);
+  double previous = run.error();
+  CHECK(std::isfinite(previous));
+  int steps = 0;
+  while (run.step()) {
+    ++steps;
+    CHECK(run.error() <= previous * (1 + 1e-12));  // monotone without rejection
+    previous = run.error();
+  }
+  CHECK(run.done());
+  CHECK(!run.step());  // a no-op once done
+  const auto resumed = run.result();
+  const auto direct = icp.align(ref, test);
+  CHECK(resumed.iterations == direct.iterations);
+  CHECK(resumed.error == direct.error);
+  CHECK(resumed.T_model_test.R == direct.T_model_test.R);
+  CHECK(resumed.T_model_test.t == direct.T_model_test.t);
+  CHECK(resumed.stop_reason == direct.stop_reason);
+  CHECK(resumed.degenerate == direct.degenerate);
+  // Interleaving two registrations with their own workspaces changes nothing.
+  IcpWorkspace<double, 4> ws_a, ws_b;
+  auto a = icp.start(ref, test, nullptr, ws_a);
+  auto b = icp.start(ref, (test * 1.0).eval(), nullptr, ws_b);
+  while (!a.done() || !b.done()) {
+    a.step();
+    b.step();
+  }
+  CHECK(a.result().error == direct.error);
+  CHECK(b.result().error == direct.error);
+}

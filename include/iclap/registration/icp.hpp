@@ -74,12 +74,15 @@ class Icp {
   /// (along the coordinates the model translates), after `initial`.
   bool centroid_alignment = false;
 
+  template <typename Search>
+  class Registration;
+
   /// Registers `test` (one point per column, any floating scalar) against
   /// `reference`, starting from the identity.
   template <typename Search, typename Derived>
   Result align(const ReferenceCloud<Scalar, Dim, Search>& reference, const Eigen::MatrixBase<Derived>& test) const {
     Workspace ws;
-    return run(reference, test, nullptr, ws);
+    return align(reference, test, nullptr, ws);
   }
 
   /// Same, starting from `initial` (a guess of T_model_test; the model's
@@ -88,14 +91,29 @@ class Icp {
   Result align(const ReferenceCloud<Scalar, Dim, Search>& reference, const Eigen::MatrixBase<Derived>& test,
                const Transform& initial) const {
     Workspace ws;
-    return run(reference, test, &initial, ws);
+    return align(reference, test, &initial, ws);
   }
 
   /// Same, with caller-owned buffers (`initial` may be null: identity).
   template <typename Search, typename Derived>
   Result align(const ReferenceCloud<Scalar, Dim, Search>& reference, const Eigen::MatrixBase<Derived>& test,
                const Transform* initial, Workspace& workspace) const {
-    return run(reference, test, initial, workspace);
+    auto r = start(reference, test, initial, workspace);
+    r.run();
+    return r.result();
+  }
+
+  /// Starts a registration without running it: the first matching is done
+  /// and checked against the stopping rules; `step()` then advances one
+  /// iteration at a time. This is what schedules across many registrations
+  /// build on (several initial guesses, many objects: run a few iterations of
+  /// each, continue with the promising ones). `reference`, `workspace` and
+  /// this Icp must outlive the returned object. Throws like `align`.
+  template <typename Search, typename Derived>
+  Registration<Search> start(const ReferenceCloud<Scalar, Dim, Search>& reference,
+                             const Eigen::MatrixBase<Derived>& test, const Transform* initial,
+                             Workspace& workspace) const {
+    return Registration<Search>(*this, reference, test, initial, workspace);
   }
 
  private:
@@ -160,12 +178,24 @@ class Icp {
     return Model::template estimate<Acc, B>(cp, cq, H, detail::rank_tolerance<Scalar>(b));
   }
 
-  template <typename Search, typename Derived>
-  Result run(const ReferenceCloud<Scalar, Dim, Search>& reference, const Eigen::MatrixBase<Derived>& test,
-             const Transform* initial, Workspace& ws) const {
+};
+
+/// A registration in progress (see Icp::start). After construction the
+/// current transform's closest-point error is known; each `step()` makes one
+/// transform update and one matching. Without rejection the error never
+/// increases from one step to the next (both the matching and the
+/// closed-form update minimise E), which pruning schedules rely on.
+template <typename Scalar, int Dim, typename Model, typename Rejector, typename Termination>
+template <typename Search>
+class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
+ public:
+  template <typename Derived>
+  Registration(const Icp& icp, const ReferenceCloud<Scalar, Dim, Search>& reference,
+               const Eigen::MatrixBase<Derived>& test, const Transform* initial, Workspace& ws)
+      : icp_(&icp), reference_(&reference), ws_(&ws) {
     static_assert(std::is_floating_point_v<typename Derived::Scalar>, "iclap::Icp: test points must be floating point");
-    termination.validate();
-    rejection.validate();
+    icp.termination.validate();
+    icp.rejection.validate();
     if (reference.size() == 0) throw EmptyInput("reference", "is empty (default-constructed)");
     check_not_empty(test, "test");
     const Index d = reference.dim();
@@ -173,12 +203,11 @@ class Icp {
     check_finite(test, "test");
     Model::check_dimension(d);
     if (initial) initial->validate(d, "initial");
-    const Index b = Model::block_size(d);
+    b_ = Model::block_size(d);
     const Index n = test.cols();
+    if (initial) initial_ = *initial;
 
     // Working test points p' = W (T0(p) - c), computed as W (R0 (p - c) + (R0 - I) c + t0).
-    using AccPoint = Point<Acc, Dim>;
-    using AccMatrix = SquareMatrix<Acc, Dim>;
     const AccPoint c = reference.centroid_accurate();
     const AccPoint w = reference.weights().template cast<Acc>();
     ws.test_points.resize(d, n);
@@ -197,74 +226,133 @@ class Icp {
       tmp += o;
       ws.test_points.col(j) = w.cwiseProduct(tmp).template cast<Scalar>();
     }
-    const Cloud<Scalar, Dim>& P = ws.test_points;
-    const Cloud<Scalar, Dim>& M = reference.working_points();
     ws.pairs.resize(static_cast<std::size_t>(n));
 
     // Block motion in working coordinates.
-    AccBlockMatrix R_acc = AccBlockMatrix::Identity(b, b);
-    AccBlockVector t_acc = AccBlockVector::Zero(b);
-    if (centroid_alignment) {
-      for (Index j = 0; j < n; ++j) t_acc -= block_of(P.col(j), b).template cast<Acc>();
-      t_acc /= static_cast<Acc>(n);  // the reference centroid is the working origin
+    R_acc_ = AccBlockMatrix::Identity(b_, b_);
+    t_acc_ = AccBlockVector::Zero(b_);
+    if (icp.centroid_alignment) {
+      for (Index j = 0; j < n; ++j) t_acc_ -= block_of(ws.test_points.col(j), b_).template cast<Acc>();
+      t_acc_ /= static_cast<Acc>(n);  // the reference centroid is the working origin
     }
-    BlockMatrix R = R_acc.template cast<Scalar>();
-    BlockVector t = t_acc.template cast<Scalar>();
-    Point<Scalar, Dim> y(d);
+    R_ = R_acc_.template cast<Scalar>();
+    t_ = t_acc_.template cast<Scalar>();
+    y_.resize(d);
+    match_and_check();
+  }
 
+  /// True once a stopping rule has fired (or no pair survived rejection).
+  bool done() const noexcept { return done_; }
+  /// E at the current transform (+infinity without pairs).
+  Scalar error() const noexcept {
+    return kept_ > 0 ? static_cast<Scalar>(error_) : std::numeric_limits<Scalar>::infinity();
+  }
+  Index pairs() const noexcept { return kept_; }
+  int iterations() const noexcept { return iterations_; }
+  StopReason stop_reason() const noexcept { return reason_; }
+
+  /// One iteration: re-estimate the motion from the current pairs, match
+  /// again, check the stopping rules. Returns !done(); a no-op once done.
+  bool step() {
+    if (done_) return false;
+    const auto e = icp_->estimate(ws_->test_points, reference_->working_points(), ws_->pairs, kept_, b_);
+    R_acc_ = e.R;
+    t_acc_ = e.t;
+    R_ = R_acc_.template cast<Scalar>();
+    t_ = t_acc_.template cast<Scalar>();
+    ++iterations_;
+    previous_ = error_;
+    match_and_check();
+    return !done_;
+  }
+
+  /// Steps until a stopping rule fires.
+  void run() {
+    while (step()) {
+    }
+  }
+
+  /// The outcome so far (final once done()): the transform in original
+  /// coordinates, E, RMSE, and the degeneracy of the current pairs.
+  Result result() const {
     Result result;
-    Index kept = 0;
-    Acc error = 0, previous = 0;
-    int iterations = 0;
-    for (;;) {
-      error = correspond(P, R, t, reference.search(), y, ws.pairs, b, kept);
-      if (kept == 0) {
-        result.stop_reason = StopReason::NoCorrespondences;
-        break;
-      }
-      if (const auto stop = termination.check(iterations, static_cast<Scalar>(error), static_cast<Scalar>(previous))) {
-        result.stop_reason = *stop;
-        break;
-      }
-      const auto e = estimate(P, M, ws.pairs, kept, b);
-      R_acc = e.R;
-      t_acc = e.t;
-      R = R_acc.template cast<Scalar>();
-      t = t_acc.template cast<Scalar>();
-      ++iterations;
-      previous = error;
-    }
-
-    result.iterations = iterations;
-    result.converged = result.stop_reason == StopReason::AbsoluteTolerance ||
-                       result.stop_reason == StopReason::RelativeTolerance;
-    result.pairs = kept;
-    if (kept > 0) {
-      result.error = static_cast<Scalar>(error);
-      result.rmse = static_cast<Scalar>(std::sqrt(error / static_cast<Acc>(kept)));
-      result.degenerate = estimate(P, M, ws.pairs, kept, b).degenerate;
+    result.iterations = iterations_;
+    result.stop_reason = reason_;
+    result.converged = done_ && (reason_ == StopReason::AbsoluteTolerance || reason_ == StopReason::RelativeTolerance);
+    result.pairs = kept_;
+    if (kept_ > 0) {
+      result.error = static_cast<Scalar>(error_);
+      result.rmse = static_cast<Scalar>(std::sqrt(error_ / static_cast<Acc>(kept_)));
+      result.degenerate =
+          icp_->estimate(ws_->test_points, reference_->working_points(), ws_->pairs, kept_, b_).degenerate;
     } else {
       result.error = result.rmse = std::numeric_limits<Scalar>::infinity();
       result.degenerate = true;
     }
-
-    // Back to original coordinates: with A = W^-1 blockdiag(R_w, I) W and
-    // b' = (t_w, 0), T = A T0 + (I - A) c + W^-1 b'.
-    AccMatrix A = AccMatrix::Identity(d, d);
-    const AccBlockVector wb = block_of(w, b);
-    A.topLeftCorner(b, b) = wb.cwiseInverse().asDiagonal() * R_acc * wb.asDiagonal();
-    AccPoint translation = AccPoint::Zero(d);
-    translation.head(b) = (AccBlockMatrix::Identity(b, b) - A.topLeftCorner(b, b)) * block_of(c, b) +
-                          t_acc.cwiseQuotient(wb);
-    AccMatrix R_final = A;
-    if (initial) {
-      R_final = A * initial->R.template cast<Acc>();
-      translation += A * initial->t.template cast<Acc>();
-    }
-    result.T_model_test.R = R_final.template cast<Scalar>();
-    result.T_model_test.t = translation.template cast<Scalar>();
+    result.T_model_test = transform();
     return result;
   }
+
+  /// The current T_model_test in original coordinates: with
+  /// A = W^-1 blockdiag(R_w, I) W and b' = (t_w, 0), T = A T0 + (I - A) c + W^-1 b'.
+  Transform transform() const {
+    const Index d = reference_->dim();
+    const AccPoint c = reference_->centroid_accurate();
+    const AccPoint w = reference_->weights().template cast<Acc>();
+    AccMatrix A = AccMatrix::Identity(d, d);
+    const AccBlockVector wb = block_of(w, b_);
+    A.topLeftCorner(b_, b_) = wb.cwiseInverse().asDiagonal() * R_acc_ * wb.asDiagonal();
+    AccPoint translation = AccPoint::Zero(d);
+    translation.head(b_) = (AccBlockMatrix::Identity(b_, b_) - A.topLeftCorner(b_, b_)) * block_of(c, b_) +
+                           t_acc_.cwiseQuotient(wb);
+    AccMatrix R_final = A;
+    if (initial_) {
+      R_final = A * initial_->R.template cast<Acc>();
+      translation += A * initial_->t.template cast<Acc>();
+    }
+    Transform T;
+    T.R = R_final.template cast<Scalar>();
+    T.t = translation.template cast<Scalar>();
+    return T;
+  }
+
+ private:
+  using Acc = Accumulator<Scalar>;
+  using AccPoint = Point<Acc, Dim>;
+  using AccMatrix = SquareMatrix<Acc, Dim>;
+  using BlockMatrix = SquareMatrix<Scalar, B>;
+  using BlockVector = Point<Scalar, B>;
+  using AccBlockMatrix = SquareMatrix<Acc, B>;
+  using AccBlockVector = Point<Acc, B>;
+
+  void match_and_check() {
+    error_ = icp_->correspond(ws_->test_points, R_, t_, reference_->search(), y_, ws_->pairs, b_, kept_);
+    if (kept_ == 0) {
+      done_ = true;
+      reason_ = StopReason::NoCorrespondences;
+      return;
+    }
+    if (const auto stop = icp_->termination.check(iterations_, static_cast<Scalar>(error_), static_cast<Scalar>(previous_))) {
+      done_ = true;
+      reason_ = *stop;
+    }
+  }
+
+  const Icp* icp_;
+  const ReferenceCloud<Scalar, Dim, Search>* reference_;
+  Workspace* ws_;
+  std::optional<Transform> initial_;
+  Index b_ = 0;
+  AccBlockMatrix R_acc_;
+  AccBlockVector t_acc_;
+  BlockMatrix R_;
+  BlockVector t_;
+  Point<Scalar, Dim> y_;
+  Acc error_ = 0, previous_ = 0;
+  Index kept_ = 0;
+  int iterations_ = 0;
+  bool done_ = false;
+  StopReason reason_ = StopReason::MaxIterations;
 };
 
 }  // namespace iclap
