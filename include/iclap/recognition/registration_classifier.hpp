@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -85,6 +89,46 @@ struct DescriptorEmbedding {
   }
 };
 
+/// How `RegistrationClassifier::decide` avoids registering the test against
+/// every object to the end.
+struct PruningSettings {
+  enum class Schedule {
+    /// Every registration runs to its end (the reference decision).
+    None,
+    /// Exact: objects are registered in order of a lower bound on their
+    /// final error, and skipped once the bound exceeds the best final error
+    /// found so far; the decision is provably the same as with None
+    /// (see `decide`).
+    Bound,
+    /// Approximate: successive halving. Every surviving object gets
+    /// `round_iterations` more iterations, then only the best `keep_fraction`
+    /// (by current error) go on, until `finalists` remain, which run to the
+    /// end. Objects whose lower bound exceeds an error already reached are
+    /// dropped at any time (that part is exact).
+    Halving,
+  };
+  Schedule schedule = Schedule::Bound;
+  int round_iterations = 2;
+  double keep_fraction = 0.5;
+  Index finalists = 2;
+
+  void validate() const {
+    if (round_iterations < 1) throw InvalidArgument("pruning.round_iterations", "must be >= 1");
+    if (!(keep_fraction > 0 && keep_fraction < 1)) throw InvalidArgument("pruning.keep_fraction", "must be in (0, 1)");
+    if (finalists < 1) throw InvalidArgument("pruning.finalists", "must be >= 1");
+  }
+};
+
+/// The outcome of `RegistrationClassifier::decide`.
+struct PrunedDecision {
+  Index object = -1;          ///< recognised object (smallest final error), -1 if none
+  double error = 0;           ///< its final error E
+  Index completed = 0;        ///< registrations run to their end (one per object and start)
+  Index pruned = 0;           ///< registrations dropped by the lower bound (exact)
+  Index eliminated = 0;       ///< registrations dropped by successive halving (approximate)
+  long long iterations = 0;   ///< ICP iterations over all objects and starts
+};
+
 /// A classifier whose distance is the ICP error E between the test touches
 /// and each object's reference cloud (paper: E_ICP, E_iCLAP): the test is
 /// registered against every object and E = sum of squared distances of the
@@ -109,6 +153,14 @@ class RegistrationClassifier final : public Classifier {
   Embedding embedding;
   /// The name in fusion expressions and results (default: the embedding's).
   std::string label = Embedding::default_name;
+  /// Initial yaw guesses, degrees, about the vertical axis through the test
+  /// centroid: each object's distance is the smallest final error over them.
+  /// {0} (one start from the identity) is the paper's; more starts widen the
+  /// convergence basin at proportional cost.
+  std::vector<double> yaw_starts_deg = {0.0};
+  /// Keep at most this many points per reference (evenly spaced in touch
+  /// order, which is time order along the sweeps); 0 keeps all.
+  Index max_reference_points = 0;
 
   std::string name() const override { return label; }
 
@@ -126,10 +178,30 @@ class RegistrationClassifier final : public Classifier {
       objects[j].validate(arg);
       check_embedded_dimension(objects[j], arg);
       embedding.template embed<Scalar, Dim>(objects[j], points);
+      if (max_reference_points > 0 && points.cols() > max_reference_points) {
+        Cloud<Scalar, Dim> kept(points.rows(), max_reference_points);
+        for (Index k = 0; k < max_reference_points; ++k)
+          kept.col(k) = points.col(k * points.cols() / max_reference_points);
+        points = std::move(kept);
+      }
       embedding.template weights<Scalar, Dim>(w, points.rows());
       refs.emplace_back(points, w);
     }
+    // Lower-bound structures: the coordinates the transform model never
+    // moves, weighted, in a kd-tree per reference.
+    std::vector<KdTreeSearch<Scalar, Eigen::Dynamic>> fixed;
+    const Index d = refs.front().dim(), b = Model::block_size(d);
+    if (d > b) {
+      for (const auto& r : refs) {
+        const Cloud<Scalar, Eigen::Dynamic> q =
+            (r.working_points().bottomRows(d - b).colwise() +
+             r.weights().tail(d - b).cwiseProduct(r.centroid().tail(d - b)))
+                .template cast<Scalar>();
+        fixed.emplace_back(q);
+      }
+    }
     references_ = std::move(refs);
+    fixed_ = std::move(fixed);
   }
 
   void distances(const TouchSet& test, Eigen::Ref<Eigen::VectorXd> out) const override {
@@ -139,10 +211,146 @@ class RegistrationClassifier final : public Classifier {
     thread_local Cloud<Scalar, Dim> points;
     thread_local IcpWorkspace<Scalar, Dim> workspace;
     embedding.template embed<Scalar, Dim>(test, points);
+    const auto starts = initial_guesses(points);
     for (std::size_t j = 0; j < references_.size(); ++j) {
-      const auto r = icp.align(references_[j], points, nullptr, workspace);
-      out(static_cast<Index>(j)) = static_cast<double>(r.error);
+      double best = std::numeric_limits<double>::infinity();
+      for (const auto& T0 : starts)
+        best = std::min(best, static_cast<double>(icp.align(references_[j], points, T0 ? &*T0 : nullptr, workspace).error));
+      out(static_cast<Index>(j)) = best;
     }
+  }
+
+  /// The lower bound on every object's final error used by pruning: the
+  /// sum over test points of the squared (weighted) distance to the closest
+  /// reference point in the coordinates the transform model never moves (z
+  /// and the label for Planar, the label or descriptor for SpatialRigid and
+  /// Translation; none for FullRigid, where every bound is 0). Valid for any
+  /// motion of the model and without rejection, because the error of a pair
+  /// is at least its error in those coordinates.
+  Eigen::VectorXd lower_bounds(const TouchSet& test) const {
+    test.validate("test");
+    check_embedded_dimension(test, "test");
+    Cloud<Scalar, Dim> points;
+    embedding.template embed<Scalar, Dim>(test, points);
+    return lower_bounds_of(points);
+  }
+
+  /// Which object fits `test` best (smallest final error, ties to the
+  /// smaller index), with as little registration work as `pruning` allows.
+  ///
+  /// With Schedule::Bound the decision equals the one of `distances`
+  /// (argmin of every final error): objects are registered in increasing
+  /// order of `lower_bounds`, and an object is skipped only when its bound
+  /// exceeds a final error already reached, which its own final error could
+  /// then not beat. The bound needs the full error (no rejection); with a
+  /// rejector configured it is not used. Single-threaded; const and
+  /// thread-safe.
+  PrunedDecision decide(const TouchSet& test, const PruningSettings& pruning = {}) const {
+    pruning.validate();
+    test.validate("test");
+    check_embedded_dimension(test, "test");
+    Cloud<Scalar, Dim> points;
+    embedding.template embed<Scalar, Dim>(test, points);
+    const Index n = objects();
+    const bool bounded = bound_is_valid();
+    const Eigen::VectorXd lb = bounded ? lower_bounds_of(points) : Eigen::VectorXd::Zero(n);
+    std::vector<Index> order(static_cast<std::size_t>(n));
+    for (Index j = 0; j < n; ++j) order[static_cast<std::size_t>(j)] = j;
+    std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return lb(a) < lb(b); });
+    const auto starts = initial_guesses(points);
+    // A bound beats an error only by a margin above rounding: relative, plus
+    // the squared rounding of the coordinates themselves.
+    const double scale = static_cast<double>(
+        (points.cwiseAbs().rowwise().maxCoeff().cwiseProduct(references_.front().weights().cwiseAbs())).maxCoeff());
+    const double slack = static_cast<double>(points.cols()) * 256.0 *
+                         static_cast<double>(std::numeric_limits<Scalar>::epsilon()) * (scale * scale + 1e-300);
+    auto beaten = [slack](double bound, double error) { return bound > error * (1 + 1e-4) + slack; };
+    PrunedDecision out;
+    auto consider = [&](Index j, double e) {
+      if (out.object < 0 || e < out.error || (e == out.error && j < out.object)) {
+        out.object = j;
+        out.error = e;
+      }
+    };
+    if (pruning.schedule != PruningSettings::Schedule::Halving) {
+      IcpWorkspace<Scalar, Dim> ws;
+      for (std::size_t k = 0; k < order.size(); ++k) {
+        const Index j = order[k];
+        if (pruning.schedule == PruningSettings::Schedule::Bound && out.object >= 0 && beaten(lb(j), out.error)) {
+          out.pruned = (n - static_cast<Index>(k)) * static_cast<Index>(starts.size());
+          break;
+        }
+        double best = std::numeric_limits<double>::infinity();
+        for (const auto& T0 : starts) {
+          const auto r = icp.align(references_[static_cast<std::size_t>(j)], points, T0 ? &*T0 : nullptr, ws);
+          best = std::min(best, static_cast<double>(r.error));
+          out.iterations += r.iterations;
+        }
+        ++out.completed;
+        consider(j, best);
+      }
+      return out;
+    }
+    // Successive halving over (object, start) registrations.
+    struct Live {
+      Index object;
+      std::unique_ptr<IcpWorkspace<Scalar, Dim>> ws;
+      std::optional<typename IcpType::template Registration<Search>> run;
+    };
+    std::vector<Live> live;
+    live.reserve(order.size() * starts.size());
+    for (Index j : order)
+      for (const auto& T0 : starts) {
+        live.push_back(Live{j, std::make_unique<IcpWorkspace<Scalar, Dim>>(), std::nullopt});
+        live.back().run.emplace(icp.start(references_[static_cast<std::size_t>(j)], points, T0 ? &*T0 : nullptr,
+                                          *live.back().ws));
+      }
+    auto upper = [&] {  // the smallest error reached: an upper bound of the winner's final error
+      double u = std::numeric_limits<double>::infinity();
+      for (const auto& l : live) u = std::min(u, static_cast<double>(l.run->error()));
+      return u;
+    };
+    auto drop_bounded = [&] {
+      const double u = upper();
+      const auto before = live.size();
+      const auto cut = std::stable_partition(live.begin(), live.end(),
+                                             [&](const Live& l) { return !beaten(lb(l.object), u); });
+      for (auto it = cut; it != live.end(); ++it) out.iterations += it->run->iterations();
+      live.erase(cut, live.end());
+      out.pruned += static_cast<Index>(before - live.size());
+    };
+    auto objects_alive = [&] {
+      std::vector<Index> ids;
+      for (const auto& l : live) ids.push_back(l.object);
+      std::sort(ids.begin(), ids.end());
+      return static_cast<Index>(std::unique(ids.begin(), ids.end()) - ids.begin());
+    };
+    if (bounded) drop_bounded();
+    while (objects_alive() > pruning.finalists) {
+      bool progressed = false;
+      for (auto& l : live)
+        for (int i = 0; i < pruning.round_iterations && l.run->step(); ++i) progressed = true;
+      if (bounded) drop_bounded();
+      std::stable_sort(live.begin(), live.end(),
+                       [](const Live& a, const Live& b) { return a.run->error() < b.run->error(); });
+      const auto keep = std::max<std::size_t>(
+          static_cast<std::size_t>(pruning.finalists) * starts.size(),
+          static_cast<std::size_t>(std::ceil(pruning.keep_fraction * static_cast<double>(live.size()))));
+      if (keep < live.size()) {
+        out.eliminated += static_cast<Index>(live.size() - keep);
+        for (std::size_t i = keep; i < live.size(); ++i) out.iterations += live[i].run->iterations();
+        live.erase(live.begin() + static_cast<std::ptrdiff_t>(keep), live.end());
+      } else if (!progressed) {
+        break;  // everything left has finished
+      }
+    }
+    for (auto& l : live) {
+      l.run->run();
+      out.iterations += l.run->iterations();
+      ++out.completed;
+      consider(l.object, static_cast<double>(l.run->error()));
+    }
+    return out;
   }
 
   /// One registration, for inspection (e.g. the transform that matched).
@@ -158,6 +366,51 @@ class RegistrationClassifier final : public Classifier {
   const std::vector<Reference>& references() const noexcept { return references_; }
 
  private:
+  bool bound_is_valid() const {
+    return !fixed_.empty() && !(icp.rejection.max_distance < std::numeric_limits<Scalar>::infinity()) &&
+           !(icp.rejection.trim_fraction < Scalar(1));
+  }
+
+  Eigen::VectorXd lower_bounds_of(const Cloud<Scalar, Dim>& points) const {
+    Eigen::VectorXd lb = Eigen::VectorXd::Zero(objects());
+    if (fixed_.empty()) return lb;
+    const Index d = points.rows(), b = Model::block_size(d);
+    const auto& w = references_.front().weights();
+    Point<Scalar, Eigen::Dynamic> q(d - b);
+    for (std::size_t j = 0; j < fixed_.size(); ++j) {
+      double sum = 0;
+      for (Index i = 0; i < points.cols(); ++i) {
+        q = points.col(i).tail(d - b).cwiseProduct(w.tail(d - b));
+        sum += static_cast<double>(fixed_[j].nearest(q.data()).squared_distance);
+      }
+      lb(static_cast<Index>(j)) = sum;
+    }
+    return lb;
+  }
+
+  /// One initial transform per yaw start (nullopt for a zero yaw).
+  std::vector<std::optional<RigidTransform<Scalar, Dim>>> initial_guesses(const Cloud<Scalar, Dim>& points) const {
+    std::vector<std::optional<RigidTransform<Scalar, Dim>>> out;
+    if (yaw_starts_deg.empty()) throw InvalidArgument("yaw_starts_deg", "needs at least one start");
+    const Index d = points.rows();
+    const Eigen::Vector2d c = points.template topRows<2>().template cast<double>().rowwise().mean();
+    for (double deg : yaw_starts_deg) {
+      if (!std::isfinite(deg)) throw InvalidArgument("yaw_starts_deg", "holds a non-finite angle");
+      if (deg == 0.0) {
+        out.emplace_back(std::nullopt);
+        continue;
+      }
+      const double a = deg * 3.14159265358979323846 / 180.0;
+      Eigen::Matrix2d R2;
+      R2 << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
+      RigidTransform<Scalar, Dim> T = RigidTransform<Scalar, Dim>::identity(d);
+      T.R.template topLeftCorner<2, 2>() = R2.cast<Scalar>();
+      T.t.template head<2>() = (c - R2 * c).cast<Scalar>();
+      out.emplace_back(T);
+    }
+    return out;
+  }
+
   void check_embedded_dimension(const TouchSet& s, const std::string& arg) const {
     if (Dim > 0) check_dimension(embedding.dim(s), Dim, arg + " (embedded point dimension)");
     if (!references_.empty() && Dim == Eigen::Dynamic)
@@ -165,6 +418,7 @@ class RegistrationClassifier final : public Classifier {
   }
 
   std::vector<Reference> references_;
+  std::vector<KdTreeSearch<Scalar, Eigen::Dynamic>> fixed_;
 };
 
 /// 3-D ICP on positions (the paper's kinesthetic pipeline, "icp").

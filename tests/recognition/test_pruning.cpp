@@ -1,0 +1,160 @@
+// SPDX-License-Identifier: MIT
+// Lower bounds, pruned decisions, multi-start and reference subsampling of
+// the registration classifiers.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "iclap/core/random.hpp"
+#include "iclap/recognition/recognition.hpp"
+
+using namespace iclap;
+
+namespace {
+
+/// `count` bar-like objects of different lengths and heights, touches with
+/// words 0..3 by position along the bar; one training set per object and
+/// test sets drawn from a re-placed copy.
+struct Scene {
+  std::vector<TouchSet> objects;
+  std::vector<std::pair<Index, TouchSet>> tests;
+};
+
+TouchSet bar(Rng& rng, double length, double height, int n, double yaw, Eigen::Vector2d shift) {
+  TouchSet s;
+  s.positions.resize(3, n);
+  s.words.resize(n);
+  const double c = std::cos(yaw), sn = std::sin(yaw);
+  for (int i = 0; i < n; ++i) {
+    const double u = rng.uniform(-0.5, 0.5) * length;
+    const double v = rng.uniform(-0.008, 0.008);
+    s.positions.col(i) << c * u - sn * v + shift.x(), sn * u + c * v + shift.y(), height + rng.normal(0, 2e-4);
+    s.words(i) = static_cast<Index>(std::floor((u / length + 0.5) * 3.999));
+  }
+  return s;
+}
+
+Scene make_scene(int count, std::uint64_t seed, double test_yaw = 0.05) {
+  Rng rng(seed);
+  Scene sc;
+  for (int o = 0; o < count; ++o) {
+    const double length = 0.08 + 0.01 * (o % 7);
+    const double height = 0.005 + 0.004 * (o % 5);
+    sc.objects.push_back(bar(rng, length, height, 120, 0.0, Eigen::Vector2d::Zero()));
+    for (int t = 0; t < 3; ++t)
+      sc.tests.emplace_back(o, bar(rng, length, height, 12, test_yaw, Eigen::Vector2d(0.003, -0.002)));
+  }
+  return sc;
+}
+
+}  // namespace
+
+TEST_CASE("lower bounds never exceed the final errors") {
+  const Scene sc = make_scene(12, 1);
+  IclapClassifier<double, Planar> iclap;
+  iclap.embedding.label_scale = 0.002;
+  iclap.fit(sc.objects, 4);
+  IcpClassifier<float, Planar> icp;
+  icp.fit(sc.objects, 4);
+  for (const auto& [truth, test] : sc.tests) {
+    (void)truth;
+    Eigen::VectorXd d(12);
+    iclap.distances(test, d);
+    const Eigen::VectorXd lb = iclap.lower_bounds(test);
+    for (Index j = 0; j < 12; ++j) CHECK(lb(j) <= d(j) * (1 + 1e-9) + 1e-15);
+    CHECK(lb.maxCoeff() > 0);  // z and labels do bound
+    icp.distances(test, d);
+    const Eigen::VectorXd lb3 = icp.lower_bounds(test);
+    for (Index j = 0; j < 12; ++j) CHECK(lb3(j) <= d(j) * (1 + 1e-5) + 1e-12);
+  }
+  // A model that moves every coordinate leaves nothing to bound.
+  IclapClassifier<double, FullRigid> full;
+  full.fit(sc.objects, 4);
+  CHECK(full.lower_bounds(sc.tests[0].second).isZero(0));
+}
+
+TEST_CASE("bound pruning gives exactly the decisions of the full registration, with less work") {
+  const Scene sc = make_scene(30, 2);
+  IclapClassifier<float, Planar> c;
+  c.embedding.label_scale = 0.002;
+  c.fit(sc.objects, 4);
+  Index pruned = 0, completed = 0;
+  int correct = 0;
+  for (const auto& [truth, test] : sc.tests) {
+    Eigen::VectorXd d(30);
+    c.distances(test, d);
+    const PrunedDecision full = c.decide(test, {PruningSettings::Schedule::None});
+    const PrunedDecision bound = c.decide(test, {PruningSettings::Schedule::Bound});
+    CHECK(full.object == decide(d));
+    CHECK(bound.object == full.object);
+    CHECK(bound.error == full.error);
+    CHECK(full.completed == 30);
+    CHECK(bound.completed + bound.pruned == 30);
+    pruned += bound.pruned;
+    completed += bound.completed;
+    correct += bound.object == truth;
+  }
+  CHECK(pruned > completed);  // most registrations are skipped on this scene
+  CHECK(correct > static_cast<int>(sc.tests.size()) / 10);  // well above chance (1/30)
+  // With rejection the bound is not valid and is not used.
+  IclapClassifier<float, Planar> trimmed = c;
+  trimmed.icp.rejection.trim_fraction = 0.8f;
+  trimmed.fit(sc.objects, 4);
+  const PrunedDecision t = trimmed.decide(sc.tests[0].second, {PruningSettings::Schedule::Bound});
+  CHECK(t.pruned == 0);
+  CHECK(t.completed == 30);
+}
+
+TEST_CASE("successive halving: valid decisions, fewer iterations, settings checked") {
+  const Scene sc = make_scene(30, 3);
+  IclapClassifier<float, Planar> c;
+  c.embedding.label_scale = 0.002;
+  c.fit(sc.objects, 4);
+  PruningSettings halving;
+  halving.schedule = PruningSettings::Schedule::Halving;
+  long long it_full = 0, it_halving = 0;
+  int agree = 0;
+  for (const auto& [truth, test] : sc.tests) {
+    (void)truth;
+    const PrunedDecision full = c.decide(test, {PruningSettings::Schedule::None});
+    const PrunedDecision h = c.decide(test, halving);
+    REQUIRE(h.object >= 0);
+    CHECK(h.object < 30);
+    CHECK(h.completed + h.pruned + h.eliminated == 30);
+    CHECK(h.completed >= 1);
+    it_full += full.iterations;
+    it_halving += h.iterations;
+    agree += h.object == full.object;
+  }
+  CHECK(it_halving < it_full);
+  CHECK(agree >= static_cast<int>(sc.tests.size()) * 9 / 10);
+  PruningSettings bad;
+  bad.keep_fraction = 1.0;
+  CHECK_THROWS_AS(c.decide(sc.tests[0].second, bad), InvalidArgument);
+}
+
+TEST_CASE("multi-start widens the basin; subsampling bounds the reference size") {
+  // Tests turned by 50 degrees: far outside the basin of a start at 0.
+  const Scene sc = make_scene(6, 4, 50.0 * 3.141592653589793 / 180.0);
+  IcpClassifier<double, Planar> one, many;
+  many.yaw_starts_deg = {-60, -30, 0, 30, 60};
+  one.fit(sc.objects, 4);
+  many.fit(sc.objects, 4);
+  int better = 0;
+  for (const auto& [truth, test] : sc.tests) {
+    Eigen::VectorXd a(6), b(6);
+    one.distances(test, a);
+    many.distances(test, b);
+    CHECK((b.array() <= a.array() * (1 + 1e-9)).all());  // the minimum over starts includes 0
+    better += b(truth) < 0.5 * a(truth);
+  }
+  CHECK(better > 0);  // some tests only converge from another start
+  many.yaw_starts_deg = {};
+  Eigen::VectorXd out(6);
+  CHECK_THROWS_AS(many.distances(sc.tests[0].second, out), InvalidArgument);
+
+  IcpClassifier<float, Planar> small;
+  small.max_reference_points = 25;
+  small.fit(sc.objects, 4);
+  for (const auto& r : small.references()) CHECK(r.size() == 25);
+}
