@@ -407,6 +407,12 @@ int run_evaluate(const Args& args) {
     for (std::size_t f = 0; f < m.fold_expressions.size(); ++f) std::printf(" [%zu] %s", f, m.fold_expressions[f].c_str());
     std::printf("\n");
   }
+  std::printf("\ntime per recognition (one test set against all %zu objects, CPU):", r.objects.size());
+  for (std::size_t c = 0; c < r.classifiers.size(); ++c)
+    std::printf(" %s %.3f ms%s", r.classifiers[c].c_str(),
+                r.tests ? 1e3 * r.classifier_seconds[c] / static_cast<double>(r.tests) : 0.0,
+                c + 1 < r.classifiers.size() ? "," : "");
+  std::printf("\n");
   if (r.capped_draws) std::printf("note: %zu draws asked for more touches than their exploration had and used all of them\n", r.capped_draws);
   if (r.empty_explorations) std::printf("note: %zu held-out explorations had no touch and were not tested\n", r.empty_explorations);
 

@@ -100,6 +100,12 @@ struct CrossValidationResult {
   std::size_t capped_draws = 0;
   /// (object, exploration) pairs without any touch, so never tested.
   std::size_t empty_explorations = 0;
+  /// Classifier names and the CPU time each spent on the test sets of the
+  /// outer folds (all threads added up), for the time per recognition:
+  /// classifier_seconds[c] / tests.
+  std::vector<std::string> classifiers;
+  std::vector<double> classifier_seconds;
+  std::size_t tests = 0;
 };
 
 /// Builds the classifiers of one training set; called once per fold and per
@@ -243,7 +249,12 @@ class CrossValidation {
       // Outer test on the held-out exploration.
       Recognizer rec = fitted_recognizer(all, train, k);
       const auto draws = make_draws(f, -1, settings_.repeats, result);
-      const auto tables = compute(rec, all, draws, {}, tick);
+      std::vector<double> seconds;
+      const auto tables = compute(rec, all, draws, {}, tick, &seconds);
+      result.classifiers = rec.classifier_names();
+      result.classifier_seconds.resize(seconds.size(), 0.0);
+      for (std::size_t c = 0; c < seconds.size(); ++c) result.classifier_seconds[c] += seconds[c];
+      result.tests += draws.size();
       std::size_t sweep = 0;
       for (std::size_t mi = 0; mi < chosen.size(); ++mi) {
         MethodResult& r = result.methods[mi];
@@ -361,17 +372,31 @@ class CrossValidation {
   /// thread count (each draw is computed independently).
   template <typename Tick>
   std::vector<DistanceTable> compute(const Recognizer& rec, const TouchSet& all, const std::vector<Draw>& draws,
-                                     const std::vector<std::string>& only, Tick& tick) const {
+                                     const std::vector<std::string>& only, Tick& tick,
+                                     std::vector<double>* seconds = nullptr) const {
     std::vector<DistanceTable> tables(draws.size());
+    std::mutex seconds_mutex;
+    if (seconds) seconds->assign(rec.classifiers().size(), 0.0);
     std::atomic<std::size_t> next{0};
     std::exception_ptr error;
     std::mutex error_mutex;
     auto worker = [&] {
+      std::vector<double> mine;
+      struct Flush {  // adds this worker's times when it leaves, however it leaves
+        std::vector<double>& mine;
+        std::vector<double>* total;
+        std::mutex& m;
+        ~Flush() {
+          if (!total) return;
+          std::lock_guard<std::mutex> lock(m);
+          for (std::size_t c = 0; c < mine.size(); ++c) (*total)[c] += mine[c];
+        }
+      } flush{mine, seconds, seconds_mutex};
       for (;;) {
         const std::size_t d = next++;
         if (d >= draws.size()) return;
         try {
-          tables[d] = rec.distances(select_touches(all, draws[d].touches), only);
+          tables[d] = rec.distances(select_touches(all, draws[d].touches), only, seconds ? &mine : nullptr);
         } catch (...) {
           std::lock_guard<std::mutex> lock(error_mutex);
           if (!error) error = std::current_exception();

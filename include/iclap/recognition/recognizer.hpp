@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <chrono>
 #include <memory>
 #include <numeric>
 #include <string>
@@ -95,13 +96,19 @@ class Recognizer {
   Index objects() const { return classifiers_.front()->objects(); }
 
   /// Normalised distances of every classifier (or of those named in `only`,
-  /// if not empty) from `test` to every object.
-  DistanceTable distances(const TouchSet& test, const std::vector<std::string>& only = {}) const {
+  /// if not empty) from `test` to every object. If `seconds` is given (one
+  /// entry per classifier, in order), each classifier's time is added to it.
+  DistanceTable distances(const TouchSet& test, const std::vector<std::string>& only = {},
+                          std::vector<double>* seconds = nullptr) const {
     DistanceTable table;
     Eigen::VectorXd d(objects());
-    for (const auto& c : classifiers_) {
+    if (seconds) seconds->resize(classifiers_.size(), 0.0);
+    for (std::size_t i = 0; i < classifiers_.size(); ++i) {
+      const auto& c = classifiers_[i];
       if (!only.empty() && std::find(only.begin(), only.end(), c->name()) == only.end()) continue;
+      const auto start = std::chrono::steady_clock::now();
       c->distances(test, d);
+      if (seconds) (*seconds)[i] += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       normalize(d, normalization_);
       table.set(c->name(), d);
     }
