@@ -58,7 +58,8 @@ const std::string kUsage = std::string(
     "the confidence reaches C (after at least --min-touches touches), after\n"
     "--max-touches touches, or when the source runs out, and prints the decision.\n"
     "The confidence is the relative margin 1 - d1/d2 of the best two fused\n"
-    "distances (0: a tie; 1: a perfect match).\n"
+    "distances (0: a tie; 1: a perfect match); the classifiers' distances are\n"
+    "normalised by their L2 norm over the objects (the paper's choice).\n"
     "\n"
     "The references: every touch of TRAIN.csv is described, the codebook is\n"
     "fitted on all of them and each object's touches are its reference. A method\n"
@@ -79,7 +80,8 @@ const std::string kUsage = std::string(
     "    [--exploration K] one exploration id\n"
     "  --simulate OBJECT   an exploration simulated now: a built-in object name (see\n"
     "                      `iclap simulate`) or a mesh file (.obj/.stl/.ply), with\n"
-    "    [--unit m|mm]     the mesh file's unit (default m)\n"
+    "    [--unit auto|m|mm] the mesh file's unit (default auto: its scale_to_metres in\n"
+    "                      meshes.json beside it, as `iclap simulate --objects DIR`)\n"
     "    [--exploration K] exploration id (default 5: with --sim-seed equal to the\n"
     "                      references' seed, explorations 0-4 are those `iclap simulate`\n"
     "                      writes, so 5 is one the references have not seen)\n"
@@ -94,14 +96,14 @@ const std::string kUsage = std::string(
     "  --min-touches N     never stop before N touches (default 1)\n"
     "  --max-touches N     stop after N touches (default: no limit; --cross-validate: 20)\n"
     "  --top N             objects listed per touch (default 3)\n"
-    "  --normalization l2|minmax|zscore   distance normalisation (default l2)\n"
     "  --seed S            seed of the codebook and of the weight search's draws (default 1)\n"
     "  --weight-repeats N  draws per case of the weight search (default 2)\n"
     "  --threads N         worker threads of the weight search (default 0: all cores)\n"
     "\n"
     "--cross-validate: fold f holds out the f-th exploration of every object (as\n"
     "`iclap evaluate`); the codebook, references and weights come from the other\n"
-    "explorations; each held-out exploration is replayed touch by touch in time\n"
+    "explorations (fitted weights on inner folds of those: 3 explorations of every\n"
+    "object needed); each held-out exploration is replayed touch by touch in time\n"
     "order. Prints, per confidence threshold, the accuracy at the stop and the mean\n"
     "and median touches used, and the accuracy of fixed numbers of touches:\n"
     "  --fixed LIST        fixed touch counts to compare with (default 5,10,20)\n"
@@ -339,8 +341,23 @@ SimObject simulation_object(const std::string& spec, const std::string& unit) {
   const auto names = builtin_object_names();
   if (std::find(names.begin(), names.end(), spec) != names.end()) return builtin_object(spec);
   if (is_mesh_file(spec)) {
+    double scale = 1.0;
+    if (unit == "auto") {
+      const fs::path manifest = fs::path(spec).parent_path() / "meshes.json";
+      const std::string file = fs::path(spec).filename().string();
+      if (!fs::exists(manifest))
+        throw UsageError("--simulate " + spec + ": no " + manifest.string() + " gives its unit; pass --unit m or mm");
+      const auto scales = read_mesh_manifest(manifest.string());
+      const auto it = scales.find(file);
+      if (it == scales.end())
+        throw UsageError("--simulate " + spec + ": " + manifest.string() + " does not list " + file +
+                         "; pass --unit m or mm");
+      scale = it->second;
+    } else {
+      scale = metres_per_unit(parse_length_unit(unit, "--unit"));
+    }
     TriangleMesh mesh = load_mesh(spec);
-    scale_mesh(mesh, metres_per_unit(parse_length_unit(unit, "--unit")));
+    scale_mesh(mesh, scale);
     return make_sim_object(fs::path(spec).stem().string(), std::move(mesh), true);
   }
   std::string list;
@@ -404,7 +421,7 @@ LiveSource make_source(const Options& o) {
   if (o.has("simulate")) {
     const auto seed = static_cast<std::uint64_t>(o.integer("sim-seed", 1, 0));
     const std::int64_t exploration = o.integer("exploration", 5, 0);
-    SimObject object = simulation_object(o.string("simulate"), o.choice("unit", {"m", "mm"}, "m"));
+    SimObject object = simulation_object(o.string("simulate"), o.choice("unit", {"auto", "m", "mm"}, "auto"));
     s.truth = object.name;
     rig::SimFrameSource::Settings settings;
     settings.real_time = o.flag("real-time");
@@ -618,7 +635,7 @@ int run_live(const Options& o, const Setup& setup, const std::string& path, cons
 
 int run_live_command(const Args& args) {
   auto value_options = RecognitionOptions::value_options();
-  for (const char* v : {"references", "method", "confidence", "min-touches", "max-touches", "top", "normalization",
+  for (const char* v : {"references", "method", "confidence", "min-touches", "max-touches", "top",
                         "seed", "weight-repeats", "threads", "port", "pose", "rate", "grid", "replay", "object",
                         "exploration", "simulate", "sim-seed", "unit", "fixed", "repeats", "traces"})
     value_options.insert(v);
@@ -636,7 +653,6 @@ int run_live_command(const Args& args) {
   setup.ro.parse(o);
   setup.cv.seed = static_cast<std::uint64_t>(o.integer("seed", 1, 0));
   setup.ro.codebook_seed = setup.cv.seed;
-  setup.cv.normalization = parse_normalization(o.choice("normalization", {"l2", "minmax", "zscore"}, "l2"));
   setup.cv.weight_repeats = static_cast<int>(o.integer("weight-repeats", 2, 1, 100000));
   setup.cv.threads = static_cast<int>(o.integer("threads", 0, 0, 4096));
   const std::vector<std::string> needed = needed_classifiers(setup.method);

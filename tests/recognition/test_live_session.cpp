@@ -241,6 +241,10 @@ TEST_CASE("live session: empty state and errors") {
   Recognizer unfitted(classifiers());
   CHECK_THROWS_WITH_AS(LiveSession(unfitted, Fusion::classifier("icp")), doctest::Contains("not fitted"),
                        InvalidArgument);
+  // Min-max and z-score normalisation make the confidence meaningless.
+  for (const Normalization n : {Normalization::MinMax, Normalization::ZScore})
+    CHECK_THROWS_WITH_AS(LiveReferences<>(t, train, classifiers, codebook(), Fusion::classifier("icp"), n).session(),
+                         doctest::Contains("needs l2 normalisation"), InvalidArgument);
   // References: an object without training touches; an empty factory.
   std::vector<Index> no_ring;
   for (Index i : train)
@@ -278,6 +282,33 @@ TEST_CASE("live weights: fixed methods pass through, fitted ones come from the g
   // Deterministic, whatever the thread count.
   s.threads = 1;
   CHECK(choose_live_weights(t, classifiers, codebook(), fitted, s).weights == w.weights);
+  // The chosen vector is the best of the grid: no other fixed weights get
+  // more of the same held-out tests right.
+  std::vector<Method> grid;
+  for (const auto& g : weight_grid(2)) grid.push_back(Method{fitted.fusion.with_weights(g).to_string(),
+                                                             fitted.fusion.with_weights(g), false});
+  s.repeats = s.weight_repeats;
+  s.weight_sweeps = false;
+  const CrossValidationResult cv = CrossValidation<>(t, classifiers, codebook(), grid, s).run();
+  for (const auto& m : cv.methods) {
+    CAPTURE(m.name);
+    CHECK(m.correct[0] + m.correct[1] <= w.correct);
+  }
+  // Two explorations per object are enough (no nested search).
+  TouchTable two = t;
+  std::vector<Index> keep;
+  for (Index i = 0; i < t.size(); ++i)
+    if (t.exploration[static_cast<std::size_t>(i)] < 12) keep.push_back(i);
+  two.touches = select_touches(t.touches, keep);
+  two.object.clear();
+  two.exploration.clear();
+  two.frame.clear();
+  for (Index i : keep) {
+    two.object.push_back(t.object[static_cast<std::size_t>(i)]);
+    two.exploration.push_back(t.exploration[static_cast<std::size_t>(i)]);
+    two.frame.push_back(t.frame[static_cast<std::size_t>(i)]);
+  }
+  CHECK(choose_live_weights(two, classifiers, codebook(), fitted, s).folds == 2);
 }
 
 TEST_CASE("live evaluation: replays held-out explorations in time order, deterministic for any thread count") {
@@ -364,4 +395,22 @@ TEST_CASE("live evaluation: replays held-out explorations in time order, determi
 
   s.max_touches = 0;
   CHECK_THROWS_AS(evaluate_live_stopping(t, classifiers, codebook(), method, s), InvalidArgument);
+  // Fitted weights need inner folds: 3 explorations of every object.
+  s.max_touches = 4;
+  TouchTable two = t;
+  std::vector<Index> keep;
+  for (Index i = 0; i < t.size(); ++i)
+    if (t.exploration[static_cast<std::size_t>(i)] < 12 || t.object[static_cast<std::size_t>(i)] != 2) keep.push_back(i);
+  two.touches = select_touches(t.touches, keep);
+  two.object.clear();
+  two.exploration.clear();
+  two.frame.clear();
+  for (Index i : keep) {
+    two.object.push_back(t.object[static_cast<std::size_t>(i)]);
+    two.exploration.push_back(t.exploration[static_cast<std::size_t>(i)]);
+    two.frame.push_back(t.frame[static_cast<std::size_t>(i)]);
+  }
+  CHECK_THROWS_WITH_AS(evaluate_live_stopping(two, classifiers, codebook(), method, s),
+                       doctest::Contains("'bar_hooked' has 2"), InvalidArgument);
+  CHECK(evaluate_live_stopping(two, classifiers, codebook(), parse_method("0.5*iclap+0.5*icp"), s).folds == 2);
 }

@@ -110,8 +110,11 @@ class LiveSession {
  public:
   /// `vocabulary`: the codebook size the recogniser was fitted with, to
   /// check words (0: unchecked). Throws InvalidArgument for an unfitted
-  /// recogniser, a fusion that needs a classifier the recogniser lacks (or
-  /// multiplies signed distances), or an invalid stop rule.
+  /// recogniser, one that does not normalise by the L2 norm (naming
+  /// "normalization": the confidence 1 - d1/d2 needs distances whose 0 is a
+  /// perfect match; min-max puts every classifier's best object at 0, so
+  /// its confidence would always be 1, and z-scores are signed), a fusion
+  /// that needs a classifier the recogniser lacks, or an invalid stop rule.
   LiveSession(const Recognizer& recognizer, Fusion fusion, LiveStopRule rule = {}, Index vocabulary = 0)
       : recognizer_(&recognizer),
         fusion_(std::move(fusion)),
@@ -121,6 +124,10 @@ class LiveSession {
     rule_.validate();
     if (vocabulary_ < 0) throw InvalidArgument("vocabulary", "must be >= 0, got " + std::to_string(vocabulary_));
     if (recognizer.objects() < 1) throw InvalidArgument("recognizer", "is not fitted (no object to recognise)");
+    if (recognizer.normalization() != Normalization::L2)
+      throw InvalidArgument("normalization", std::string("live recognition needs l2 normalisation (got ") +
+                                                 iclap::to_string(recognizer.normalization()) +
+                                                 "): its confidence 1 - d1/d2 needs distances whose 0 is a perfect match");
     recognizer.check({Method{fusion_.to_string(), fusion_, false}});
     touches_.positions.resize(3, 0);
   }
@@ -324,16 +331,18 @@ struct LiveWeights {
 
 /// Chooses the weights of a method whose top-level weighted sum is fitted
 /// (`a+b` without numbers; Method::fit_weights) for live recognition against
-/// references built from all of `table`: the paper's brute-force grid,
-/// scored by leave-one-exploration-out recognition on `table` itself (each
-/// exploration rank held out of every object in turn, codebook and
-/// references from the rest, `settings.weight_repeats` random draws of each
-/// of `settings.touches` touches). That is CrossValidation's inner search
-/// with the whole table as the training set; it runs CrossValidation and
-/// reads the rates of every grid vector from its weight sweeps. Highest
-/// number of correct tests wins; ties go to the earlier grid vector (the
-/// sweep does not report CrossValidation's margin tie-break). A method with
-/// fixed weights is returned as it is, with nothing searched.
+/// references built from all of `table`: the paper's brute-force grid
+/// (settings.weight_steps), scored by leave-one-exploration-out recognition
+/// on `table` itself (each exploration rank held out of every object in
+/// turn, codebook and references from the rest, `settings.weight_repeats`
+/// random draws of each of `settings.touches` touches). That is
+/// CrossValidation's inner search with the whole table as the training set;
+/// it runs CrossValidation once with every grid vector as a fixed-weight
+/// method (each draw is registered once, all vectors fuse the same
+/// distances), so it needs only 2 explorations per object. Highest number of
+/// correct tests wins; ties go to the earlier grid vector (CrossValidation's
+/// own search breaks them by the mean margin, which its results do not
+/// report). A method with fixed weights is returned as it is.
 ///
 /// Throws what CrossValidation throws (e.g. InvalidArgument naming "table"
 /// when an object has fewer than 2 explorations with touches). `progress`
@@ -344,25 +353,30 @@ LiveWeights choose_live_weights(const TouchTable& table, const ClassifierFactory
                                 const ProgressCallback& progress = {}) {
   LiveWeights out{method.fusion, {}, 0, 0, 0};
   if (!method.fit_weights) return out;
-  settings.weight_sweeps = true;
+  settings.validate();
+  const auto grid = weight_grid(static_cast<int>(method.fusion.children().size()), settings.weight_steps);
+  std::vector<Method> candidates;
+  for (std::size_t g = 0; g < grid.size(); ++g)
+    candidates.push_back(Method{"w" + std::to_string(g), method.fusion.with_weights(grid[g]), false});
+  settings.weight_sweeps = false;
   settings.repeats = settings.weight_repeats;
-  CrossValidation<Quantizer> cv(table, factory, quantizer, {method}, settings);
+  CrossValidation<Quantizer> cv(table, factory, quantizer, candidates, settings);
   const CrossValidationResult r = cv.run(progress);
-  const WeightSweep& sweep = r.sweeps.at(0);
   std::size_t best = 0;
-  Index best_correct = -1;
-  for (std::size_t g = 0; g < sweep.grid.size(); ++g) {
-    Index correct = 0;
-    for (Index c : sweep.correct[g]) correct += c;
-    if (correct > best_correct) {
+  for (std::size_t g = 0; g < grid.size(); ++g) {
+    Index correct = 0, total = 0;
+    for (std::size_t t = 0; t < r.touches.size(); ++t) {
+      correct += r.methods[g].correct[t];
+      total += r.methods[g].total[t];
+    }
+    if (g == 0 || correct > out.correct) {
       best = g;
-      best_correct = correct;
+      out.correct = correct;
+      out.total = total;
     }
   }
-  out.weights = sweep.grid[best];
+  out.weights = grid[best];
   out.fusion = method.fusion.with_weights(out.weights);
-  out.correct = best_correct;
-  for (Index t : sweep.total) out.total += t;
   out.folds = r.folds;
   return out;
 }
@@ -512,7 +526,9 @@ struct LiveEvaluationResult {
 /// is seeded; results do not depend on the thread count. `progress` gets
 /// (replayed explorations, explorations) after CrossValidation's own run.
 /// Throws what CrossValidation throws (fewer than 2 explorations of an
-/// object, a method that needs a classifier the factory lacks).
+/// object, a method that needs a classifier the factory lacks), and
+/// InvalidArgument naming "method" for fitted weights with fewer than 3
+/// explorations of an object (no inner folds to choose them on).
 template <typename Quantizer>
 LiveEvaluationResult evaluate_live_stopping(const TouchTable& table, const ClassifierFactory& factory,
                                             const Quantizer& quantizer, const Method& method,
@@ -521,6 +537,13 @@ LiveEvaluationResult evaluate_live_stopping(const TouchTable& table, const Class
                                             const ProgressCallback& progress = {}) {
   settings.validate();
   const CrossValidationSettings& cvs = settings.cross_validation;
+  if (method.fit_weights)
+    for (Index o = 0; o < static_cast<Index>(table.objects.size()); ++o)
+      if (table.explorations_of(o).size() < 3)
+        throw InvalidArgument("method", "'" + method.name + "' has fitted weights, chosen in each fold on inner folds of "
+                                        "its training explorations, so every object needs at least 3 explorations "
+                                        "with touches; '" + table.objects[static_cast<std::size_t>(o)] + "' has " +
+                                        std::to_string(table.explorations_of(o).size()) + " (give fixed weights)");
   CrossValidation<Quantizer> cv(table, factory, quantizer, {method}, cvs);
   LiveEvaluationResult out;
   out.random_draws = cv.run(cv_progress);

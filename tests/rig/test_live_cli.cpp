@@ -1,0 +1,544 @@
+// SPDX-License-Identifier: MIT
+// `iclap live` end to end: the real iclap binary recognises an object from a
+// fake WTS sensor on a pseudo-terminal (streaming the tactile frames of a
+// known exploration, with junk and corrupted packets, and an unplug), from
+// a replayed dataset and from the simulator; bad input; the cross-validated
+// report. Also the simulator frame source in process.
+//
+// Fixtures: tests/fixtures/live (see make_fixtures.sh there): references of
+// 4 simulated objects (explorations 0 and 1) and exploration 2 of c_clamp and
+// of scissors.
+
+#include <doctest/doctest.h>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <pty.h>
+#include <signal.h>
+#include <sys/ioctl.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <mutex>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "fake_wts_sensor.hpp"
+#include "iclap/data/csv_reader.hpp"
+#include "iclap/data/csv_writer.hpp"
+#include "iclap/rig/sim_frame_source.hpp"
+#include "iclap/sim/builtin_objects.hpp"
+#include "process_util.hpp"
+
+using namespace iclap::rig;
+using namespace std::chrono_literals;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kFixtures = ICLAP_TEST_FIXTURES "/live/";
+const std::string kTrain = kFixtures + "train.csv";
+const std::string kClamp = kFixtures + "c_clamp_2.csv";
+const std::string kScissors = kFixtures + "scissors_2.csv";
+// Fixed weights: no weight search, so runs are quick and their outcome
+// does not depend on it.
+const std::string kMethod = "0.6*iclap+0.2*icp+0.2*bow";
+
+struct Scratch {
+  fs::path dir;
+  Scratch() {
+    dir = fs::temp_directory_path() / ("iclap_live_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  ~Scratch() { fs::remove_all(dir); }
+  std::string operator()(const std::string& name) const { return (dir / name).string(); }
+};
+
+test::ProcessResult run_iclap(const std::vector<std::string>& args, const Scratch& scratch,
+                              std::chrono::milliseconds timeout = 60000ms) {
+  std::vector<std::string> argv{ICLAP_CLI_PATH};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return test::run_process(argv, scratch("run"), timeout);
+}
+
+std::vector<std::string> lines_starting_with(const std::string& text, const std::string& prefix) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (line.compare(0, prefix.size(), prefix) == 0) out.push_back(line);
+  return out;
+}
+
+/// Frames of a dataset file as the WTS sends them (12-bit taxels).
+std::vector<TactileFrame> wire_frames(const iclap::Dataset& d) {
+  std::vector<TactileFrame> out;
+  for (std::size_t i = 0; i < d.frames.size(); ++i) {
+    TactileFrame f;
+    f.timestamp_ms = static_cast<std::uint32_t>(1000 + 200 * i);
+    f.texels.resize(d.rows, d.cols);
+    for (iclap::Index r = 0; r < d.rows; ++r)
+      for (iclap::Index c = 0; c < d.cols; ++c) {
+        const double p = d.frames[i].pressures(r, c);
+        REQUIRE(p == std::round(p));  // the simulator writes raw integer units
+        f.texels(r, c) = static_cast<std::uint16_t>(p);
+      }
+    out.push_back(std::move(f));
+  }
+  return out;
+}
+
+std::size_t contact_frames(const iclap::Dataset& d, std::size_t first_n) {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < std::min(first_n, d.frames.size()); ++i) n += iclap::is_contact(d.frames[i]);
+  return n;
+}
+
+/// A WTS sensor on a pseudo-terminal that streams given frames, in order,
+/// after "start periodic frames", then falls silent; it answers the
+/// commands `iclap live` sends like PtyFakeSensor (fake_wts_sensor.hpp),
+/// whose frames are random and cannot be chosen. Damage never costs a
+/// frame, so the pose replay stays paired with the frames: junk bytes go
+/// between packets and a corrupted copy of a frame (one flipped bit) goes
+/// before the intact one. `unplug_after` closes the port after that many
+/// intact frames, once the host has read them.
+class ExplorationSensor {
+ public:
+  struct Script {
+    std::vector<TactileFrame> frames;
+    std::size_t junk_every = 0;
+    std::size_t corrupt_every = 0;
+    std::size_t unplug_after = std::numeric_limits<std::size_t>::max();
+    int frame_interval_ms = 3;
+    std::uint64_t seed = 7;
+  };
+
+  explicit ExplorationSensor(Script script) : script_(std::move(script)) {
+    termios raw{};
+    ::cfmakeraw(&raw);
+    raw.c_cflag |= CLOCAL | CREAD;
+    char name[256] = {};
+    if (::openpty(&master_, &slave_, name, &raw, nullptr) != 0)
+      throw std::runtime_error(std::string("openpty failed: ") + std::strerror(errno));
+    path_ = name;
+    ::fcntl(master_, F_SETFD, FD_CLOEXEC);
+    ::fcntl(slave_, F_SETFD, FD_CLOEXEC);
+    ::fcntl(master_, F_SETFL, ::fcntl(master_, F_GETFL) | O_NONBLOCK);
+    thread_ = std::thread([this] { run(); });
+  }
+  ~ExplorationSensor() {
+    quit_ = true;
+    thread_.join();
+    if (master_ >= 0) ::close(master_);
+    ::close(slave_);
+  }
+  ExplorationSensor(const ExplorationSensor&) = delete;
+  ExplorationSensor& operator=(const ExplorationSensor&) = delete;
+
+  const std::string& path() const { return path_; }
+  std::size_t sent() const { return sent_; }
+  std::size_t corrupted() const { return corrupted_; }
+  bool streaming() const { return streaming_; }
+  bool unplugged() const { return unplugged_; }
+  std::vector<std::uint8_t> command_ids() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return ids_;
+  }
+
+ private:
+  void run() {
+    iclap::Rng damage(script_.seed);
+    auto next = std::chrono::steady_clock::now();
+    std::uint8_t buf[512];
+    while (!quit_ && master_ >= 0) {
+      flush(0ms);
+      pollfd p{master_, POLLIN, 0};
+      if (::poll(&p, 1, 2) > 0 && (p.revents & POLLIN)) {
+        const ssize_t n = ::read(master_, buf, sizeof buf);
+        if (n > 0) {
+          framer_.feed(buf, static_cast<std::size_t>(n));
+          while (auto packet = framer_.next()) handle(*packet);
+        }
+      }
+      if (streaming_ && out_.empty() && sent_ < script_.frames.size() && std::chrono::steady_clock::now() >= next) {
+        next = std::chrono::steady_clock::now() + std::chrono::milliseconds(script_.frame_interval_ms);
+        send(damage);
+        if (sent_ >= script_.unplug_after) {
+          unplug();
+          return;
+        }
+      }
+    }
+  }
+
+  void handle(const RawPacket& packet) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ids_.push_back(packet.id);
+    }
+    Reply reply{packet.id, 0, {}};
+    if (packet.id == wts_id::kGetMatrixInfo) reply.payload = encode_matrix_info_payload(MatrixInfo{6, 14, 340, 340, 4095});
+    if (packet.id == wts_id::kStartPeriodicFrames) streaming_ = true;
+    if (packet.id == wts_id::kStopPeriodicFrames) streaming_ = false;
+    const Bytes b = encode_reply(reply);
+    out_.insert(out_.end(), b.begin(), b.end());
+  }
+
+  void send(iclap::Rng& damage) {
+    const std::size_t k = sent_ + 1;
+    const Bytes packet = encode_frame(script_.frames[sent_]);
+    if (script_.junk_every && k % script_.junk_every == 0)
+      for (std::uint64_t i = 0, n = 1 + damage.below(30); i < n; ++i)
+        out_.push_back(damage.below(3) == 0 ? 0xAA : static_cast<std::uint8_t>(damage.below(256)));
+    if (script_.corrupt_every && k % script_.corrupt_every == 0) {
+      Bytes bad = packet;
+      bad[3 + damage.below(bad.size() - 3)] ^= static_cast<std::uint8_t>(1u << damage.below(8));
+      out_.insert(out_.end(), bad.begin(), bad.end());
+      ++corrupted_;
+    }
+    out_.insert(out_.end(), packet.begin(), packet.end());
+    flush(2000ms);
+    ++sent_;
+  }
+
+  void flush(std::chrono::milliseconds patience) {
+    const auto deadline = std::chrono::steady_clock::now() + patience;
+    while (!out_.empty() && master_ >= 0) {
+      const ssize_t n = ::write(master_, out_.data(), out_.size());
+      if (n > 0) {
+        out_.erase(out_.begin(), out_.begin() + n);
+        continue;
+      }
+      if (std::chrono::steady_clock::now() >= deadline) return;
+      pollfd p{master_, POLLOUT, 0};
+      ::poll(&p, 1, 5);
+    }
+  }
+
+  // Closes the master once the host has read everything (the kernel drops
+  // unread input on hang-up).
+  void unplug() {
+    flush(2000ms);
+    const auto deadline = std::chrono::steady_clock::now() + 5s;
+    int pending = 1;
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (::ioctl(slave_, FIONREAD, &pending) != 0 || pending == 0) break;
+      std::this_thread::sleep_for(2ms);
+    }
+    std::this_thread::sleep_for(30ms);
+    unplugged_ = true;
+    ::close(master_);
+    master_ = -1;
+  }
+
+  Script script_;
+  int master_ = -1;
+  int slave_ = -1;
+  std::string path_;
+  std::thread thread_;
+  std::atomic<bool> quit_{false};
+  std::atomic<bool> streaming_{false};
+  std::atomic<bool> unplugged_{false};
+  std::atomic<std::size_t> sent_{0};
+  std::atomic<std::size_t> corrupted_{0};
+  PacketFramer framer_;
+  Bytes out_;
+  mutable std::mutex mutex_;
+  std::vector<std::uint8_t> ids_;
+};
+
+std::vector<std::string> live_args(const std::string& port) {
+  return {"live", "--references", kTrain, "--method", kMethod, "--port", port, "--pose", "replay:" + kClamp};
+}
+
+}  // namespace
+
+TEST_CASE("iclap live --port: recognises the streamed exploration through junk and corrupted packets") {
+  Scratch scratch;
+  const iclap::Dataset clamp = iclap::read_dataset_csv(kClamp);
+  ExplorationSensor::Script script;
+  script.frames = wire_frames(clamp);
+  script.junk_every = 2;
+  script.corrupt_every = 3;
+  ExplorationSensor fake(script);
+  const auto r = run_iclap(live_args(fake.path()), scratch);
+  INFO(r.out);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const auto decision = lines_starting_with(r.out, "decision: ");
+  REQUIRE(decision.size() == 1);
+  CHECK(decision[0].find("decision: c_clamp after ") == 0);
+  CHECK(decision[0].find("(confident)") != std::string::npos);
+  // Stopped by the confidence before the exploration ran out; one line per
+  // touch, one touch per contact frame received.
+  const auto touches = lines_starting_with(r.out, "touch ");
+  REQUIRE(!touches.empty());
+  CHECK(touches.size() < contact_frames(clamp, clamp.frames.size()));
+  CHECK(touches.back().find("touch " + std::to_string(touches.size()) + " (frame ") == 0);
+  CHECK(touches.back().find(": c_clamp, confidence ") != std::string::npos);
+  CHECK(decision[0].find("after " + std::to_string(touches.size()) + " touch(es)") != std::string::npos);
+  CHECK(fake.corrupted() >= 2);  // damage was on the wire
+  // Same touches and decision as replaying the exploration's file: nothing
+  // was lost or mispaired on the way.
+  const auto replay = run_iclap({"live", "--references", kTrain, "--method", kMethod, "--replay", kClamp}, scratch);
+  REQUIRE(replay.status == 0);
+  CHECK(lines_starting_with(replay.out, "touch ") == touches);
+  // The stream was stopped on the way out: stop (leftover), info, start, stop.
+  const auto ids = fake.command_ids();
+  CHECK(ids == std::vector<std::uint8_t>{wts_id::kStopPeriodicFrames, wts_id::kGetMatrixInfo,
+                                          wts_id::kStartPeriodicFrames, wts_id::kStopPeriodicFrames});
+  CHECK_FALSE(fake.streaming());
+}
+
+TEST_CASE("iclap live --port: an unplug mid-stream exits 3 and reports the touches so far") {
+  Scratch scratch;
+  const iclap::Dataset clamp = iclap::read_dataset_csv(kClamp);
+  ExplorationSensor::Script script;
+  script.frames = wire_frames(clamp);
+  script.unplug_after = 9;
+  script.junk_every = 4;
+  ExplorationSensor fake(script);
+  auto args = live_args(fake.path());
+  args.insert(args.end(), {"--confidence", "1"});  // never confident: only the unplug ends the run
+  const auto r = run_iclap(args, scratch);
+  INFO(r.out);
+  INFO(r.err);
+  CHECK(r.status == 3);
+  CHECK(fake.unplugged());
+  const std::size_t expected = contact_frames(clamp, 9);
+  REQUIRE(expected > 0);
+  CHECK(lines_starting_with(r.out, "touch ").size() == expected);
+  const auto decision = lines_starting_with(r.out, "decision: ");
+  REQUIRE(decision.size() == 1);
+  CHECK(decision[0].find("after " + std::to_string(expected) + " touch(es) (9 frames)") != std::string::npos);
+  CHECK(decision[0].find("(device lost)") != std::string::npos);
+  CHECK(r.err.find("device lost after 9 frames, " + std::to_string(expected) + " touches") != std::string::npos);
+}
+
+TEST_CASE("iclap live --port: Ctrl-C stops the sensor's stream and exits 130") {
+  Scratch scratch;
+  const iclap::Dataset clamp = iclap::read_dataset_csv(kClamp);
+  ExplorationSensor::Script script;
+  script.frames = wire_frames(clamp);
+  script.frame_interval_ms = 40;
+  ExplorationSensor fake(script);
+  std::vector<std::string> argv{ICLAP_CLI_PATH};
+  for (const auto& a : live_args(fake.path())) argv.push_back(a);
+  argv.insert(argv.end(), {"--confidence", "1"});
+  const pid_t pid = test::spawn_process(argv, scratch("sigint.stdout"), scratch("sigint.stderr"));
+  const auto deadline = std::chrono::steady_clock::now() + 20s;
+  while (fake.sent() < 6 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(5ms);
+  REQUIRE(fake.sent() >= 6);
+  ::kill(pid, SIGINT);
+  const int status = test::wait_process(pid);
+  const std::string out = test::read_text(scratch("sigint.stdout"));
+  INFO(out);
+  INFO(test::read_text(scratch("sigint.stderr")));
+  CHECK(status == 130);
+  CHECK(lines_starting_with(out, "decision: ").size() == 1);
+  CHECK(out.find("(interrupted)") != std::string::npos);
+  const auto wait_until = std::chrono::steady_clock::now() + 2s;
+  while (fake.streaming() && std::chrono::steady_clock::now() < wait_until) std::this_thread::sleep_for(5ms);
+  CHECK_FALSE(fake.streaming());
+  CHECK(fake.command_ids().back() == wts_id::kStopPeriodicFrames);
+}
+
+TEST_CASE("iclap live --replay and --simulate") {
+  Scratch scratch;
+  {  // One object of a file, its truth reported; the limit stops the run.
+    const auto r = run_iclap({"live", "--references", kTrain, "--method", kMethod, "--replay", kScissors,
+                              "--object", "scissors", "--exploration", "2", "--max-touches", "4", "--top", "2"},
+                             scratch);
+    INFO(r.out);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    const auto touches = lines_starting_with(r.out, "touch ");
+    REQUIRE(touches.size() == 4);
+    for (const auto& t : touches) CHECK(std::count(t.begin(), t.end(), ',') == 2);  // "confidence", then 2 objects
+    CHECK(lines_starting_with(r.out, "decision: ")[0].find("after 4 touch(es)") != std::string::npos);
+    CHECK(r.out.find("(touch limit)") != std::string::npos);
+    CHECK(!lines_starting_with(r.out, "truth: scissors (").empty());
+  }
+  {  // Threshold 0 stops at --min-touches.
+    const auto r = run_iclap({"live", "--references", kTrain, "--method", kMethod, "--replay", kScissors,
+                              "--confidence", "0", "--min-touches", "3"},
+                             scratch);
+    REQUIRE(r.status == 0);
+    CHECK(lines_starting_with(r.out, "touch ").size() == 3);
+    CHECK(r.out.find("(confident)") != std::string::npos);
+  }
+  {  // A replay without a touch: no decision, exit 1.
+    iclap::Dataset idle = iclap::read_dataset_csv(kScissors);
+    idle.frames.resize(2);
+    for (auto& f : idle.frames) f.pressures.setZero();
+    iclap::write_dataset_csv(scratch("idle.csv"), idle);
+    const auto r = run_iclap({"live", "--references", kTrain, "--method", kMethod, "--replay", scratch("idle.csv")},
+                             scratch);
+    CHECK(r.status == 1);
+    CHECK(r.out.find("no decision: no touch in 2 frame(s)") != std::string::npos);
+  }
+  {  // A built-in object simulated now (fitted weights: chosen on the references).
+    const auto r = run_iclap({"live", "--references", kTrain, "--method", "iclap+icp", "--simulate", "c_clamp",
+                              "--exploration", "7", "--max-touches", "5", "--confidence", "1", "--weight-repeats", "1"},
+                             scratch);
+    INFO(r.out);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.out.find("method: iclap+icp with weights ") != std::string::npos);
+    CHECK(r.out.find("source: simulated exploration 7 of c_clamp (seed 1)") != std::string::npos);
+    CHECK(lines_starting_with(r.out, "touch ").size() == 5);
+    CHECK(!lines_starting_with(r.out, "truth: c_clamp (").empty());
+  }
+  {  // A mesh file, its unit from meshes.json beside it: not a reference object.
+    const std::string mesh = ICLAP_SHARED_DIR "/data/meshes/wt_rubber_mallet.ply";
+    if (fs::exists(mesh)) {
+      const auto r = run_iclap({"live", "--references", kTrain, "--method", kMethod, "--simulate", mesh,
+                                "--max-touches", "3"},
+                               scratch);
+      INFO(r.err);
+      REQUIRE(r.status == 0);
+      CHECK(r.out.find("truth: wt_rubber_mallet (not among the references)") != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("iclap live --cross-validate: the stop rule against fixed counts, deterministic") {
+  Scratch scratch;
+  const std::vector<std::string> args = {"live", "--references", kTrain, "--cross-validate", "--method", kMethod,
+                                         "--confidence", "0,0.3,1", "--max-touches", "6", "--fixed", "1,6",
+                                         "--repeats", "1", "--weight-repeats", "1", "--traces", scratch("traces.csv")};
+  const auto r = run_iclap(args, scratch);
+  INFO(r.out);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK(r.out.find("2 folds") != std::string::npos);
+  CHECK(r.out.find("8 held-out explorations replayed") != std::string::npos);
+  // Threshold 0 stops after 1 touch, threshold 1 never (6 touches): their
+  // accuracies are the fixed counts' (time order).
+  std::istringstream in(r.out);
+  std::string line;
+  std::vector<std::string> rows;
+  while (std::getline(in, line)) {
+    std::istringstream l(line);
+    std::string first;
+    l >> first;
+    if (first == "0.00" || first == "0.30" || first == "1.00" || first == "1" || first == "6") rows.push_back(line);
+  }
+  REQUIRE(rows.size() == 5);
+  auto field = [](const std::string& row, int k) {
+    std::istringstream l(row);
+    std::string w;
+    for (int i = 0; i <= k; ++i) l >> w;
+    return w;
+  };
+  CHECK(field(rows[0], 2) == "1.00");  // mean touches at threshold 0
+  CHECK(field(rows[2], 2) == "6.00");  // threshold 1
+  CHECK(field(rows[0], 1) == field(rows[3], 1));  // accuracy = fixed 1 touch, time order
+  CHECK(field(rows[2], 1) == field(rows[4], 1));  // accuracy = fixed 6 touches
+  // The traces: one row per replayed touch, 8 explorations x 6 touches.
+  const std::string traces = test::read_text(scratch("traces.csv"));
+  CHECK(traces.find("fold,object,exploration,touches,recognised,confidence,correct,d_scissors,d_wooden_cuboid_1,d_c_clamp,d_hammer\n") == 0);  // objects in file order
+  CHECK(std::count(traces.begin(), traces.end(), '\n') == 1 + 8 * 6);
+  // Deterministic: the same report again (but for the time).
+  const auto again = run_iclap(args, scratch);
+  auto strip_time = [](const std::string& s) { return s.substr(0, s.find("Total time")); };
+  CHECK(strip_time(again.out) == strip_time(r.out));
+}
+
+TEST_CASE("iclap live: bad input exits 2 with a clear message") {
+  Scratch scratch;
+  iclap::Dataset small;
+  small.rows = 2;
+  small.cols = 2;
+  iclap::Frame f;
+  f.object = "x";
+  f.pressures = Eigen::MatrixXd::Constant(2, 2, 100.0);
+  small.frames.push_back(f);
+  iclap::write_dataset_csv(scratch("grid2x2.csv"), small);
+  const std::string refs = kTrain;
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"live", "--replay", kClamp}, "missing --references"},
+      {{"live", "--references", refs}, "no source"},
+      {{"live", "--references", refs, "--replay", kClamp, "--simulate", "hammer"}, "exclude each other"},
+      {{"live", "--references", scratch("none.csv"), "--replay", kClamp}, scratch("none.csv")},
+      {{"live", "--references", refs, "--method", "icp+", "--replay", kClamp}, "--method"},
+      {{"live", "--references", refs, "--method", "0.5*icp+0.6*bow", "--replay", kClamp}, "sum to 1.1"},
+      {{"live", "--references", refs, "--method", "icp+foo", "--replay", kClamp}, "unknown classifier 'foo'"},
+      {{"live", "--references", refs, "--confidence", "1.5", "--replay", kClamp}, "--confidence"},
+      {{"live", "--references", refs, "--confidence", "0.2,0.4", "--replay", kClamp}, "needs --cross-validate"},
+      {{"live", "--references", refs, "--min-touches", "5", "--max-touches", "2", "--replay", kClamp},
+       "--min-touches 5 exceeds --max-touches 2"},
+      {{"live", "--references", refs, "--simulate", "teapot"}, "neither a built-in object"},
+      {{"live", "--references", refs, "--replay", kClamp, "--object", "teapot"}, "has no frame of object 'teapot'"},
+      {{"live", "--references", refs, "--replay", kClamp, "--pose", "fixed:0,0,0"}, "--pose needs --port"},
+      {{"live", "--references", refs, "--replay", kClamp, "--real-time"}, "--real-time needs --simulate"},
+      {{"live", "--references", refs, "--method", kMethod, "--replay", scratch("grid2x2.csv")},
+       "taxel grid 2x2 differs from the references' 14x6"},
+      {{"live", "--references", kClamp, "--replay", kClamp}, "give fixed weights"},
+      {{"live", "--references", refs, "--port", "/dev/iclap-none"}, "/dev/iclap-none"},
+      {{"live", "--references", refs, "--cross-validate", "--replay", kClamp}, "--cross-validate takes no --replay"},
+      {{"live", "--references", refs, "--cross-validate", "--fixed", "30"}, "--fixed: 30 exceeds --max-touches 20"},
+      {{"live", "--references", kClamp, "--cross-validate", "--method", kMethod}, "needs at least 2"},
+      {{"live", "--references", refs, "--cross-validate", "--method", "iclap+icp"}, "at least 3 explorations"},
+      {{"live", "--references", refs, "--replay", kClamp, "--normalization", "minmax"}, "unknown option --normalization"},
+  };
+  for (const auto& [args, needle] : cases) {
+    CAPTURE(needle);
+    const auto r = run_iclap(args, scratch);
+    INFO(r.err);
+    CHECK(r.status == 2);
+    CHECK(r.err.find(needle) != std::string::npos);
+  }
+}
+
+TEST_CASE("SimFrameSource: the frames of simulate_exploration, optionally paced in real time") {
+  const iclap::SimObject object = iclap::builtin_object("scissors");
+  iclap::SimulationSettings settings;
+  settings.exploration.max_frames_mean = 12;
+  const auto expected = iclap::simulate_exploration(object, settings, 3, 4);
+  SimFrameSource source(object, settings, 3, 4);
+  CHECK(source.grid() == Grid{14, 6});
+  CHECK(source.has_time());
+  CHECK(source.has_orientation());
+  CHECK(source.description() == "simulated exploration 4 of scissors (seed 3)");
+  CHECK_THROWS_AS(source.last_frame(), iclap::InvalidArgument);
+  PosedFrame pf;
+  for (const auto& e : expected) {
+    REQUIRE(source.next(pf, 0ms) == FrameSource::Status::kFrame);
+    CHECK(pf.pressures == e.pressures);
+    CHECK(pf.pose.position == e.position);
+    REQUIRE(pf.pose.orientation);
+    CHECK(pf.pose.orientation->coeffs() == e.orientation->coeffs());
+    CHECK(pf.time == e.time);
+    CHECK(source.last_frame().frame == e.frame);
+    CHECK(source.last_frame().object == "scissors");
+  }
+  CHECK(source.next(pf, 0ms) == FrameSource::Status::kEnd);
+  CHECK(source.next(pf, 0ms) == FrameSource::Status::kEnd);
+
+  // Real time: frame k is due k / 5 s after the first; a short wait times out.
+  SimFrameSource paced(object, settings, 3, 4, SimFrameSource::Settings{true});
+  REQUIRE(paced.next(pf, 0ms) == FrameSource::Status::kFrame);  // the first is due at once
+  const auto start = std::chrono::steady_clock::now();
+  CHECK(paced.next(pf, 20ms) == FrameSource::Status::kTimeout);
+  REQUIRE(paced.next(pf, 1000ms) == FrameSource::Status::kFrame);
+  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  CHECK(waited >= (*expected[1].time - *expected[0].time) * 0.9);
+  CHECK(pf.time == expected[1].time);
+
+  CHECK_THROWS_AS(SimFrameSource(object, settings, 3, -1), iclap::InvalidArgument);
+  settings.explorations = 0;
+  CHECK_THROWS_AS(SimFrameSource(object, settings, 3, 0), iclap::InvalidArgument);
+}
