@@ -294,20 +294,21 @@ class RegistrationClassifier final : public Classifier {
     // Successive halving over (object, start) registrations.
     struct Live {
       Index object;
-      std::unique_ptr<IcpWorkspace<Scalar, Dim>> ws;
-      std::optional<typename IcpType::template Registration<Search>> run;
+      std::unique_ptr<IcpWorkspace<Scalar, Dim>> ws;  // stable address for the registration
+      typename IcpType::template Registration<Search> run;
+      Live(Index o, std::unique_ptr<IcpWorkspace<Scalar, Dim>> w, const IcpType& icp_, const Reference& ref,
+           const Cloud<Scalar, Dim>& pts, const RigidTransform<Scalar, Dim>* T0)
+          : object(o), ws(std::move(w)), run(icp_.start(ref, pts, T0, *ws)) {}
     };
     std::vector<Live> live;
     live.reserve(order.size() * starts.size());
     for (Index j : order)
-      for (const auto& T0 : starts) {
-        live.push_back(Live{j, std::make_unique<IcpWorkspace<Scalar, Dim>>(), std::nullopt});
-        live.back().run.emplace(icp.start(references_[static_cast<std::size_t>(j)], points, T0 ? &*T0 : nullptr,
-                                          *live.back().ws));
-      }
+      for (const auto& T0 : starts)
+        live.emplace_back(j, std::make_unique<IcpWorkspace<Scalar, Dim>>(), icp,
+                          references_[static_cast<std::size_t>(j)], points, T0 ? &*T0 : nullptr);
     auto upper = [&] {  // the smallest error reached: an upper bound of the winner's final error
       double u = std::numeric_limits<double>::infinity();
-      for (const auto& l : live) u = std::min(u, static_cast<double>(l.run->error()));
+      for (const auto& l : live) u = std::min(u, static_cast<double>(l.run.error()));
       return u;
     };
     auto drop_bounded = [&] {
@@ -315,7 +316,7 @@ class RegistrationClassifier final : public Classifier {
       const auto before = live.size();
       const auto cut = std::stable_partition(live.begin(), live.end(),
                                              [&](const Live& l) { return !beaten(lb(l.object), u); });
-      for (auto it = cut; it != live.end(); ++it) out.iterations += it->run->iterations();
+      for (auto it = cut; it != live.end(); ++it) out.iterations += it->run.iterations();
       live.erase(cut, live.end());
       out.pruned += static_cast<Index>(before - live.size());
     };
@@ -329,26 +330,26 @@ class RegistrationClassifier final : public Classifier {
     while (objects_alive() > pruning.finalists) {
       bool progressed = false;
       for (auto& l : live)
-        for (int i = 0; i < pruning.round_iterations && l.run->step(); ++i) progressed = true;
+        for (int i = 0; i < pruning.round_iterations && l.run.step(); ++i) progressed = true;
       if (bounded) drop_bounded();
       std::stable_sort(live.begin(), live.end(),
-                       [](const Live& a, const Live& b) { return a.run->error() < b.run->error(); });
+                       [](const Live& a, const Live& b) { return a.run.error() < b.run.error(); });
       const auto keep = std::max<std::size_t>(
           static_cast<std::size_t>(pruning.finalists) * starts.size(),
           static_cast<std::size_t>(std::ceil(pruning.keep_fraction * static_cast<double>(live.size()))));
       if (keep < live.size()) {
         out.eliminated += static_cast<Index>(live.size() - keep);
-        for (std::size_t i = keep; i < live.size(); ++i) out.iterations += live[i].run->iterations();
+        for (std::size_t i = keep; i < live.size(); ++i) out.iterations += live[i].run.iterations();
         live.erase(live.begin() + static_cast<std::ptrdiff_t>(keep), live.end());
       } else if (!progressed) {
         break;  // everything left has finished
       }
     }
     for (auto& l : live) {
-      l.run->run();
-      out.iterations += l.run->iterations();
+      l.run.run();
+      out.iterations += l.run.iterations();
       ++out.completed;
-      consider(l.object, static_cast<double>(l.run->error()));
+      consider(l.object, static_cast<double>(l.run.error()));
     }
     return out;
   }

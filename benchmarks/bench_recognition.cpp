@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: MIT
+//
+// One recognition per method: a set of 20 test touches against the 20
+// built-in objects (references from 4 explorations of each, the test from the
+// 5th), single-threaded. Issue target: `iclap` under 0.5 ms.
+//
+//   build/release/benchmarks/bench_recognition --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+
+#include <benchmark/benchmark.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "iclap/recognition/recognition.hpp"
+#include "iclap/sim/builtin_objects.hpp"
+#include "iclap/sim/simulator.hpp"
+#include "iclap/tactile/tactile_sift.hpp"
+
+namespace {
+
+using namespace iclap;
+
+/// The built-in dataset, its touches, a codebook from explorations 1-4 and
+/// every classifier fitted on them; test sets of 20 touches from exploration 0.
+struct Scene {
+  TouchTable table;
+  TouchSet all;
+  std::vector<TouchSet> objects;
+  std::vector<TouchSet> tests;  // one per object
+  Index k = 50;
+
+  Scene() {
+    SimulationSettings settings;
+    settings.threads = 0;
+    const Dataset ds = simulate_dataset(builtin_objects(), settings, 1);
+    table = make_touch_table(ds, TactileSift<float>{});
+    std::vector<Index> train;
+    for (Index i = 0; i < table.size(); ++i)
+      if (table.exploration[static_cast<std::size_t>(i)] != 0) train.push_back(i);
+    Eigen::MatrixXf f(table.touches.features.rows(), static_cast<Index>(train.size()));
+    for (std::size_t j = 0; j < train.size(); ++j) f.col(static_cast<Index>(j)) = table.touches.features.col(train[j]);
+    KMeansQuantizer<float> q;
+    q.settings.k = k;
+    q.settings.seed = 1;
+    q.fit(f);
+    all = table.touches;
+    all.words = assign_words(q, table.touches.features);
+    for (Index o = 0; o < static_cast<Index>(table.objects.size()); ++o) {
+      std::vector<Index> tr, te;
+      for (Index i = 0; i < table.size(); ++i) {
+        if (table.object[static_cast<std::size_t>(i)] != o) continue;
+        (table.exploration[static_cast<std::size_t>(i)] == 0 ? te : tr).push_back(i);
+      }
+      objects.push_back(select_touches(all, tr));
+      Rng rng = Rng::derive(1, static_cast<std::uint64_t>(o));
+      for (std::size_t i = 0; i < 20 && i < te.size(); ++i)
+        std::swap(te[i], te[i + static_cast<std::size_t>(rng.below(te.size() - i))]);
+      te.resize(std::min<std::size_t>(20, te.size()));
+      tests.push_back(select_touches(all, te));
+    }
+  }
+};
+
+const Scene& scene() {
+  static const Scene s;
+  return s;
+}
+
+std::unique_ptr<Classifier> make(const std::string& name) {
+  if (name == "bow") return std::make_unique<BowClassifier>();
+  if (name == "icp") return std::make_unique<IcpClassifier<float, Planar>>();
+  if (name == "iclap") return std::make_unique<IclapClassifier<float, Planar>>();
+  return std::make_unique<IclapNClassifier<72, float, Planar>>();
+}
+
+/// One recognition with `method`: the distances of its classifiers (each
+/// once), normalisation, fusion, decision. Cycles through the 20 objects'
+/// test sets; reports the fraction recognised as a counter.
+void BM_Recognition(benchmark::State& state, const std::string& method_spec) {
+  const Scene& s = scene();
+  const Method method = parse_method(method_spec);
+  std::vector<std::unique_ptr<Classifier>> cs;
+  for (const auto& c : method.fusion.classifiers()) cs.push_back(make(c));
+  Recognizer rec(std::move(cs));
+  rec.fit(s.objects, s.k);
+  std::size_t i = 0, correct = 0, count = 0;
+  for (auto _ : state) {
+    const std::size_t o = i++ % s.tests.size();
+    const Index guess = decide(method.fusion.evaluate(rec.distances(s.tests[o])));
+    benchmark::DoNotOptimize(guess);
+    correct += guess == static_cast<Index>(o);
+    ++count;
+  }
+  state.counters["recognised"] = static_cast<double>(correct) / static_cast<double>(count);
+  state.counters["objects"] = static_cast<double>(s.objects.size());
+}
+
+/// iCLAP decision only, with the exact lower-bound pruning and with
+/// successive halving, against every registration to the end.
+void BM_IclapDecision(benchmark::State& state, PruningSettings::Schedule schedule) {
+  const Scene& s = scene();
+  IclapClassifier<float, Planar> c;
+  c.fit(s.objects, s.k);
+  PruningSettings p;
+  p.schedule = schedule;
+  std::size_t i = 0, correct = 0, count = 0;
+  double completed = 0;
+  for (auto _ : state) {
+    const std::size_t o = i++ % s.tests.size();
+    const PrunedDecision d = c.decide(s.tests[o], p);
+    benchmark::DoNotOptimize(d);
+    correct += d.object == static_cast<Index>(o);
+    completed += static_cast<double>(d.completed);
+    ++count;
+  }
+  state.counters["recognised"] = static_cast<double>(correct) / static_cast<double>(count);
+  state.counters["registrations_run"] = completed / static_cast<double>(count);
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(BM_Recognition, bow, std::string("bow"));
+BENCHMARK_CAPTURE(BM_Recognition, icp, std::string("icp"));
+BENCHMARK_CAPTURE(BM_Recognition, iclap, std::string("iclap"));
+BENCHMARK_CAPTURE(BM_Recognition, iclapn, std::string("iclapn"));
+BENCHMARK_CAPTURE(BM_Recognition, icp_plus_bow, std::string("0.7*icp+0.3*bow"));
+BENCHMARK_CAPTURE(BM_Recognition, icp_times_bow, std::string("icp*bow"));
+BENCHMARK_CAPTURE(BM_Recognition, iclap_plus_icp, std::string("0.9*iclap+0.1*icp"));
+BENCHMARK_CAPTURE(BM_Recognition, iclap_times_icp, std::string("iclap*icp"));
+BENCHMARK_CAPTURE(BM_Recognition, iclap_plus_bow, std::string("0.8*iclap+0.2*bow"));
+BENCHMARK_CAPTURE(BM_Recognition, iclap_times_bow, std::string("iclap*bow"));
+BENCHMARK_CAPTURE(BM_Recognition, iclap_plus_icp_plus_bow, std::string("0.6*iclap+0.2*icp+0.2*bow"));
+BENCHMARK_CAPTURE(BM_Recognition, iclap_times_icp_times_bow, std::string("iclap*icp*bow"));
+BENCHMARK_CAPTURE(BM_IclapDecision, all_registrations, PruningSettings::Schedule::None);
+BENCHMARK_CAPTURE(BM_IclapDecision, bound_pruning, PruningSettings::Schedule::Bound);
+BENCHMARK_CAPTURE(BM_IclapDecision, successive_halving, PruningSettings::Schedule::Halving);
+
+BENCHMARK_MAIN();
