@@ -3,6 +3,8 @@
 // `iclap simulate`: writes a simulated haptic dataset, exactly as the rig
 // recorder would, from built-in objects or a folder of meshes.
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <functional>
 #include <iostream>
@@ -25,6 +27,8 @@ int run_simulate(const iclap::cli::Args& args) {
   const std::string objects_arg = opt.string("objects", "builtin");
   const std::string unit = opt.choice("unit", {"auto", "m", "mm"}, "auto");
   const std::string out = opt.string("out", "-");
+  if (out == "-" && isatty(1))
+    throw UsageError("refusing to write the dataset to a terminal: give --out FILE or redirect the output");
 
   iclap::SimulationSettings settings;
   settings.explorations = static_cast<int>(opt.integer("explorations", 5, 1, 1000));
@@ -78,7 +82,8 @@ ICLAP_COMMAND("simulate", "write a simulated dataset of the WTS/Omni rig (built-
               "  --explorations N   explorations per object (default 5)\n"
               "  --seed S           seed of all randomness (default 1); same seed and options give\n"
               "                     byte-identical files\n"
-              "  --out FILE         output file, written atomically (default '-': standard output)\n"
+              "  --out FILE         output file, written atomically (default '-': standard output,\n"
+              "                     unless it is a terminal)\n"
               "  --threads T        worker threads, 0 = all (default 0); the output does not depend on it\n"
               "  --shift-mm D       object re-placed before each exploration within D mm (default 10)\n"
               "  --yaw-deg A        ... and turned by up to +-A degrees (default 10)\n"
