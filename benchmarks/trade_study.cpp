@@ -1,0 +1,280 @@
+// SPDX-License-Identifier: MIT
+//
+// The speed/accuracy trade of iCLAP recognition, measured: the paper's
+// leave-one-exploration-out experiment (5 folds, random subsets of 5, 10 and
+// 20 touches of the held-out exploration) over a grid of settings, each one
+// varied from a baseline, single-threaded. For each setting: recognition rate
+// at 5, 10, 20 touches and the CPU time per recognition (one test touch set
+// against all objects). Writes trade_study.csv and trade_study.svg (accuracy
+// against time, Pareto front marked) and names the fast, balanced and
+// accurate recommendations.
+//
+//   build/release/benchmarks/trade_study [DATASET.csv] [--out DIR] [--repeats N]
+// Without a dataset, the built-in 20-object simulation (seed 1).
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "iclap/data/csv_reader.hpp"
+#include "iclap/io/atomic_file.hpp"
+#include "iclap/recognition/recognition.hpp"
+#include "iclap/sim/builtin_objects.hpp"
+#include "iclap/sim/simulator.hpp"
+#include "iclap/tactile/moments.hpp"
+#include "iclap/tactile/raw_pressures.hpp"
+#include "iclap/tactile/tactile_sift.hpp"
+#include "svg_plot.hpp"
+
+namespace {
+
+using namespace iclap;
+
+/// Recognition by a pruned decision, seen as a classifier: distance 0 for
+/// the decided object, 1 for the others, so the cross validation's argmin is
+/// the pruned decision and its timing is the pruned cost.
+template <typename Inner>
+class PrunedVote final : public Classifier {
+ public:
+  PrunedVote(Inner inner, PruningSettings p) : inner_(std::move(inner)), pruning_(p) {}
+  std::string name() const override { return inner_.name(); }
+  void fit(const std::vector<TouchSet>& objects, Index vocabulary) override { inner_.fit(objects, vocabulary); }
+  void distances(const TouchSet& test, Eigen::Ref<Eigen::VectorXd> out) const override {
+    const PrunedDecision d = inner_.decide(test, pruning_);
+    out.setOnes();
+    out(d.object) = 0;
+  }
+  Index objects() const override { return inner_.objects(); }
+
+ private:
+  Inner inner_;
+  PruningSettings pruning_;
+};
+
+/// One point of the grid.
+struct Setting {
+  std::string group;  ///< what was varied
+  std::string name;   ///< the value
+  std::string descriptor = "sift";
+  Index k = 50;
+  std::function<std::unique_ptr<Classifier>()> make;
+};
+
+template <typename C>
+void configure(C& c, int max_iterations = 50, double rel = 1e-6) {
+  c.icp.termination.max_iterations = max_iterations;
+  c.icp.termination.relative_tolerance = static_cast<decltype(c.icp.termination.relative_tolerance)>(rel);
+}
+
+std::vector<Setting> grid() {
+  std::vector<Setting> s;
+  auto iclap = [](auto tweak) {
+    return [tweak]() -> std::unique_ptr<Classifier> {
+      auto c = std::make_unique<IclapClassifier<float, Planar>>();
+      tweak(*c);
+      return c;
+    };
+  };
+  s.push_back({"baseline", "iclap planar float kd-tree label 1mm k50 sift", "sift", 50, iclap([](auto&) {})});
+  for (int it : {3, 5, 10, 20})
+    s.push_back({"max iterations", std::to_string(it), "sift", 50, iclap([it](auto& c) { configure(c, it); })});
+  for (double rel : {1e-4, 1e-3, 1e-2})
+    s.push_back({"relative tolerance", std::to_string(rel).substr(0, 6), "sift", 50,
+                 iclap([rel](auto& c) { configure(c, 50, rel); })});
+  s.push_back({"search", "brute force", "sift", 50,
+               [] { return std::unique_ptr<Classifier>(std::make_unique<IclapClassifier<float, Planar, BruteForceSearch<float, 4>>>()); }});
+  s.push_back({"scalar", "double", "sift", 50,
+               [] { return std::unique_ptr<Classifier>(std::make_unique<IclapClassifier<double, Planar>>()); }});
+  for (Index m : {200, 100, 50})
+    s.push_back({"reference points", "at most " + std::to_string(m), "sift", 50,
+                 iclap([m](auto& c) { c.max_reference_points = m; })});
+  for (double l : {0.0001, 0.0003, 0.003, 0.01})
+    s.push_back({"label scale", std::to_string(l * 1000).substr(0, 4) + " mm/word", "sift", 50,
+                 iclap([l](auto& c) { c.embedding.label_scale = l; })});
+  for (Index k : {10, 25, 100}) s.push_back({"codebook k", std::to_string(k), "sift", k, iclap([](auto&) {})});
+  s.push_back({"descriptor", "raw pressures", "raw", 50, iclap([](auto&) {})});
+  s.push_back({"descriptor", "moments", "moments", 50, iclap([](auto&) {})});
+  s.push_back({"transform", "full rigid (paper)", "sift", 50,
+               [] { return std::unique_ptr<Classifier>(std::make_unique<IclapClassifier<float, FullRigid>>()); }});
+  s.push_back({"transform", "spatial rigid", "sift", 50,
+               [] { return std::unique_ptr<Classifier>(std::make_unique<IclapClassifier<float, SpatialRigid>>()); }});
+  s.push_back({"transform", "translation", "sift", 50,
+               [] { return std::unique_ptr<Classifier>(std::make_unique<IclapClassifier<float, Translation>>()); }});
+  s.push_back({"points", "3-D ICP (no label)", "sift", 50,
+               [] { return std::unique_ptr<Classifier>(std::make_unique<IcpClassifier<float, Planar>>()); }});
+  for (double ds : {0.003, 0.01, 0.03})
+    s.push_back({"points", "iCLAP-N, descriptor " + std::to_string(ds * 100).substr(0, 3) + " cm/unit", "sift", 50,
+                 [ds] {
+                   auto c = std::make_unique<IclapNClassifier<72, float, Planar>>();
+                   c->embedding.descriptor_scale = ds;
+                   return std::unique_ptr<Classifier>(std::move(c));
+                 }});
+  s.push_back({"multi-start", "yaw -15,0,15", "sift", 50,
+               iclap([](auto& c) { c.yaw_starts_deg = {-15, 0, 15}; })});
+  s.push_back({"multi-start", "yaw -30..30 step 15", "sift", 50,
+               iclap([](auto& c) { c.yaw_starts_deg = {-30, -15, 0, 15, 30}; })});
+  for (auto schedule : {PruningSettings::Schedule::Bound, PruningSettings::Schedule::Halving}) {
+    PruningSettings p;
+    p.schedule = schedule;
+    s.push_back({"pruning", schedule == PruningSettings::Schedule::Bound ? "lower bound (exact)" : "successive halving",
+                 "sift", 50, [p] {
+                   return std::unique_ptr<Classifier>(
+                       std::make_unique<PrunedVote<IclapClassifier<float, Planar>>>(IclapClassifier<float, Planar>{}, p));
+                 }});
+  }
+  return s;
+}
+
+TouchTable touches_for(const Dataset& ds, const std::string& descriptor) {
+  if (descriptor == "raw") return make_touch_table(ds, RawPressures<float>{});
+  if (descriptor == "moments") return make_touch_table(ds, MomentsDescriptor<float>{});
+  return make_touch_table(ds, TactileSift<float>{});
+}
+
+struct Row {
+  const Setting* setting;
+  double rate[3];
+  double ms;
+  double accuracy() const { return (rate[0] + rate[1] + rate[2]) / 3; }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string dataset_path, out = "trade_study";
+  int repeats = 5;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i];
+    else if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) repeats = std::atoi(argv[++i]);
+    else if (argv[i][0] != '-') dataset_path = argv[i];
+    else {
+      std::fprintf(stderr, "usage: trade_study [DATASET.csv] [--out DIR] [--repeats N]\n");
+      return 2;
+    }
+  }
+  if (repeats < 1) {
+    std::fprintf(stderr, "trade_study: --repeats must be >= 1\n");
+    return 2;
+  }
+  Dataset ds;
+  try {
+    if (dataset_path.empty()) {
+      SimulationSettings sim;
+      sim.threads = 0;
+      ds = simulate_dataset(builtin_objects(), sim, 1);
+      dataset_path = "built-in simulation, seed 1";
+    } else {
+      ds = read_dataset_csv(dataset_path);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "trade_study: %s\n", e.what());
+    return 2;
+  }
+  std::printf("trade study on %s: 5-fold leave-one-exploration-out, %d draws per object and touch count, 1 thread\n\n",
+              dataset_path.c_str(), repeats);
+  std::printf("%-20s %-44s %6s %6s %6s %10s\n", "varied", "setting", "@5", "@10", "@20", "ms/recog.");
+  std::map<std::string, TouchTable> tables;
+  std::vector<Row> rows;
+  const auto settings = grid();
+  for (const auto& s : settings) {
+    if (!tables.count(s.descriptor)) tables[s.descriptor] = touches_for(ds, s.descriptor);
+    CrossValidationSettings cv;
+    cv.touches = {5, 10, 20};
+    cv.repeats = repeats;
+    cv.threads = 1;
+    cv.weight_sweeps = false;
+    KMeansQuantizer<float> q;
+    q.settings.k = s.k;
+    q.settings.seed = 1;
+    auto make = s.make;
+    const ClassifierFactory factory = [make] {
+      std::vector<std::unique_ptr<Classifier>> v;
+      v.push_back(make());
+      return v;
+    };
+    const std::string name = make()->name();
+    CrossValidation<> run(tables.at(s.descriptor), factory, q, {parse_method(name)}, cv);
+    const auto r = run.run();
+    Row row{&s, {r.methods[0].rate(0), r.methods[0].rate(1), r.methods[0].rate(2)},
+            1e3 * r.classifier_seconds[0] / static_cast<double>(r.tests)};
+    rows.push_back(row);
+    std::printf("%-20s %-44s %5.1f%% %5.1f%% %5.1f%% %10.3f\n", s.group.c_str(), s.name.c_str(), 100 * row.rate[0],
+                100 * row.rate[1], 100 * row.rate[2], row.ms);
+    std::fflush(stdout);
+  }
+
+  // Pareto front on (mean rate over 5, 10, 20 touches; time).
+  std::vector<bool> front(rows.size(), true);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (std::size_t j = 0; j < rows.size(); ++j)
+      if (j != i && rows[j].accuracy() >= rows[i].accuracy() && rows[j].ms <= rows[i].ms &&
+          (rows[j].accuracy() > rows[i].accuracy() || rows[j].ms < rows[i].ms))
+        front[i] = false;
+  std::vector<std::size_t> on_front;
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (front[i]) on_front.push_back(i);
+  std::sort(on_front.begin(), on_front.end(), [&](std::size_t a, std::size_t b) { return rows[a].ms < rows[b].ms; });
+  // Recommendations from the front: accurate = most accurate; fast = fastest
+  // within 2 points of the accurate one's mean rate... or the fastest at all
+  // when none is; balanced = the most accurate at most 3x the fastest's time.
+  const std::size_t accurate = on_front.back();
+  std::size_t fast = on_front.front();
+  std::size_t balanced = fast;
+  for (std::size_t i : on_front)
+    if (rows[i].ms <= 3 * rows[fast].ms) balanced = i;
+  std::printf("\nPareto front (mean rate over 5/10/20 touches against time):\n");
+  for (std::size_t i : on_front)
+    std::printf("  %-20s %-44s mean %5.1f%%  %8.3f ms\n", rows[i].setting->group.c_str(), rows[i].setting->name.c_str(),
+                100 * rows[i].accuracy(), rows[i].ms);
+  auto describe = [&](const char* label, std::size_t i) {
+    std::printf("%-9s %s: %s (mean %.1f%%, %.3f ms per recognition)\n", label, rows[i].setting->group.c_str(),
+                rows[i].setting->name.c_str(), 100 * rows[i].accuracy(), rows[i].ms);
+  };
+  std::printf("\nrecommended (from the front):\n");
+  describe("fast", fast);
+  describe("balanced", balanced);
+  describe("accurate", accurate);
+
+  std::filesystem::create_directories(out);
+  {
+    AtomicFileWriter w(out + "/trade_study.csv");
+    w.stream() << "group,setting,rate5,rate10,rate20,mean_rate,ms_per_recognition,pareto\n";
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      w.stream() << rows[i].setting->group << "," << rows[i].setting->name << "," << rows[i].rate[0] << ","
+                 << rows[i].rate[1] << "," << rows[i].rate[2] << "," << rows[i].accuracy() << "," << rows[i].ms << ","
+                 << (front[i] ? 1 : 0) << "\n";
+    w.commit();
+  }
+  cli::Plot p;
+  p.title = "iCLAP recognition: accuracy against time per recognition";
+  p.x_label = "CPU time per recognition (ms, one test set against all objects, log scale)";
+  p.y_label = "mean rate at 5/10/20 touches";
+  p.x_log = true;
+  p.y_auto = true;
+  cli::PlotSeries all, pf;
+  all.name = "settings";
+  all.markers_only = true;
+  pf.name = "Pareto front";
+  pf.highlight = true;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    all.x.push_back(rows[i].ms);
+    all.y.push_back(rows[i].accuracy());
+    all.point_labels.push_back(front[i] ? rows[i].setting->name : "");
+  }
+  for (std::size_t i : on_front) {
+    pf.x.push_back(rows[i].ms);
+    pf.y.push_back(rows[i].accuracy());
+  }
+  p.series = {all, pf};
+  AtomicFileWriter svg(out + "/trade_study.svg");
+  svg.stream() << cli::render_svg(p);
+  svg.commit();
+  std::printf("\nwrote %s/trade_study.csv and %s/trade_study.svg\n", out.c_str(), out.c_str());
+  return 0;
+}
