@@ -255,8 +255,12 @@ int run_cross_validation(const Options& o, const Setup& setup, const std::string
   {
     Progress cv_progress("cross validation (weights, random draws)");
     Progress replay_progress("replaying held-out explorations");
+    const ProgressCallback replayed = [&](std::size_t done, std::size_t total) {
+      cv_progress.finish();  // its line is complete once the replays start
+      replay_progress(done, total);
+    };
     r = evaluate_live_stopping(table, setup.factory, make_quantizer(setup.ro), setup.method, s, std::ref(cv_progress),
-                               std::ref(replay_progress));
+                               replayed);
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("%d folds (one exploration of every object held out); %zu held-out explorations replayed in time order, "
