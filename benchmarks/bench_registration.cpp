@@ -6,8 +6,9 @@
 //      (built once, outside the timed loop, as recognition does), with the
 //      paper's termination (at most 50 iterations, relative change 1e-6).
 //      Counters: iters (iterations made), rmse_mm (final RMSE), t_err_mm and
-//      R_err (|t - t_true| and |R - R_true|_F against the known motion) and
-//      per_iter (time per ICP iteration). Dim 3 is the plain 3-D ICP, 4 the
+//      R_err (|t - t_true| and |R - R_true|_F against the known motion),
+//      degenerate (the pairs do not fix every rotation) and per_iter (time
+//      per ICP iteration). Dim 3 is the plain 3-D ICP, 4 the
 //      paper's (x, y, z, word), 8 and 67 descriptor-sized labels; every
 //      transform model; kd-tree and brute force; float and double.
 //  IcpLarge/...
@@ -92,6 +93,9 @@ void report(benchmark::State& state, const Result& r, const bench::RegistrationP
   state.counters["rmse_mm"] = 1e3 * static_cast<double>(r.rmse);
   state.counters["t_err_mm"] = 1e3 * (r.T_model_test.t.template cast<double>() - p.t).norm();
   state.counters["R_err"] = (r.T_model_test.R.template cast<double>() - p.R).norm();
+  // 1: the final pairs leave some rotation undetermined (e.g. FullRigid in
+  // 67-D: the points span only a few directions), so R_err means nothing.
+  state.counters["degenerate"] = r.degenerate ? 1 : 0;
   // Seconds per ICP iteration (each also makes one query round).
   state.counters["per_iter"] =
       benchmark::Counter(static_cast<double>(iterations), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);

@@ -40,6 +40,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/icp.h>
@@ -320,6 +322,10 @@ bool check_agreement() {
 /// table: the median when repetitions are run, else the single run.
 class RatioReporter : public benchmark::ConsoleReporter {
  public:
+  /// Colours only on a terminal (a custom reporter does not see
+  /// --benchmark_color).
+  RatioReporter() : ConsoleReporter(isatty(fileno(stdout)) ? OO_Defaults : OO_Tabular) {}
+
   void ReportRuns(const std::vector<Run>& runs) override {
     ConsoleReporter::ReportRuns(runs);
     for (const auto& r : runs) {
