@@ -12,10 +12,13 @@
 //      paper's (x, y, z, word), 8 and 67 descriptor-sized labels; every
 //      transform model; kd-tree and brute force; float and double.
 //  IcpLarge/...
-//      The same for M, N up to 20,000 (minutes each for brute force in 67-D):
-//      not in the default run. Examples:
-//        bench_registration --benchmark_filter='IcpLarge/kdtree/float/3D/'
-//        bench_registration --benchmark_filter='IcpLarge/.*/67D/full/m:20000/n:2000'
+//      The same where one registration takes long (brute force on the
+//      20,000-point models and from 2,000 points in 67-D, kd-trees in 8-D and
+//      67-D on the larger sizes; minutes each for 67-D brute force): not in
+//      the default run. Examples:
+//        bench_registration --benchmark_filter='IcpLarge/brute/float/3D/'
+//        bench_registration --benchmark_filter='IcpLarge/kdtree/float/67D/spatial'
+//        bench_registration --benchmark_filter='Icp(Large)?/kdtree/float/8D/full'
 //  IcpDynamic/...
 //      Run-time dimension (Eigen::Dynamic) beside the fixed-size path.
 //  Reference/<search>/<scalar>/<dim>D/m:M
