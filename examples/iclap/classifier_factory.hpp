@@ -34,6 +34,21 @@ std::unique_ptr<Classifier> make_registration_classifier(const std::string& name
     c->embedding.label_scale = o.label_scale;
     return c;
   }
+  if (name == "patch") {
+    auto c = std::make_unique<PatchClassifier<Scalar, Model, Search<Scalar, 3>>>();
+    configure_icp(c->icp, o);
+    c->embedding.test_points_per_touch = o.patch_points;
+    c->embedding.reference_voxel = o.patch_voxel;
+    return c;
+  }
+  if (name == "iclap_patch") {
+    auto c = std::make_unique<IclapPatchClassifier<Scalar, Model, Search<Scalar, 4>>>();
+    configure_icp(c->icp, o);
+    c->embedding.label_scale = o.label_scale;
+    c->embedding.test_points_per_touch = o.patch_points;
+    c->embedding.reference_voxel = o.patch_voxel;
+    return c;
+  }
   auto c = std::make_unique<IclapNClassifier<Eigen::Dynamic, Scalar, Model, Search<Scalar, Eigen::Dynamic>>>();
   configure_icp(c->icp, o);
   c->embedding.descriptor_scale = o.descriptor_scale;
@@ -55,11 +70,11 @@ std::vector<std::unique_ptr<Classifier>> make_classifiers_for(const RecognitionO
   for (const auto& name : names) {
     if (name == "bow") {
       out.push_back(std::make_unique<BowClassifier>());
-    } else if (name == "icp" || name == "iclap" || name == "iclapn") {
+    } else if (name == "icp" || name == "iclap" || name == "iclapn" || name == "patch" || name == "iclap_patch") {
       out.push_back(o.search == "brute" ? make_with_search<Scalar, BruteForceSearch>(name, o)
                                         : make_with_search<Scalar, KdTreeSearch>(name, o));
     } else {
-      throw UsageError("unknown classifier '" + name + "' (known: bow, icp, iclap, iclapn)");
+      throw UsageError("unknown classifier '" + name + "' (known: bow, icp, iclap, iclapn, patch, iclap_patch)");
     }
   }
   return out;

@@ -53,7 +53,9 @@ const std::string kUsage = std::string(
     "  --touches LIST          numbers of touches: 1,5,10,20 or 1..20 (default 1..20)\n"
     "  --methods LIST|paper|all   comma-separated methods (default paper: bow, icp,\n"
     "                          iclap, icp+bow, icp*bow, iclap+icp, iclap*icp, iclap+bow,\n"
-    "                          iclap*bow, iclap+icp+bow, iclap*icp*bow; all adds iclapn).\n"
+    "                          iclap*bow, iclap+icp+bow, iclap*icp*bow; all adds iclapn,\n"
+    "                          patch, iclap_patch (contact-patch ICP, beyond the paper) and\n"
+    "                          iclap_patch+patch+bow, iclap_patch*patch*bow).\n"
     "                          '+' sums with fitted weights, '*' products, or fixed\n"
     "                          weights such as 0.6*iclap+0.2*icp+0.2*bow\n"
     "  --repeats N             random draws per object and number of touches (default 10)\n"
@@ -91,7 +93,8 @@ std::vector<Method> parse_methods(const std::string& text) {
   std::vector<Method> out = paper_methods();
   if (text == "paper") return out;
   if (text == "all") {
-    out.push_back(parse_method("iclapn"));
+    for (const char* m : {"iclapn", "patch", "iclap_patch", "iclap_patch+patch+bow", "iclap_patch*patch*bow"})
+      out.push_back(parse_method(m));
     return out;
   }
   out.clear();
@@ -340,20 +343,7 @@ int run_evaluate(const Args& args) {
   const fs::path out = opt.string("out", "results");
   const auto sim_seed = static_cast<std::uint64_t>(opt.integer("sim-seed", 1, 0));
 
-  // The classifiers the methods need, in a stable order.
-  std::vector<std::string> needed;
-  for (const char* c : {"bow", "icp", "iclap", "iclapn"})
-    for (const auto& m : methods) {
-      const auto used = m.fusion.classifiers();
-      if (std::find(used.begin(), used.end(), c) != used.end()) {
-        needed.push_back(c);
-        break;
-      }
-    }
-  for (const auto& m : methods)
-    for (const auto& c : m.fusion.classifiers())
-      if (std::find(needed.begin(), needed.end(), c) == needed.end())
-        throw UsageError("method '" + m.name + "' uses unknown classifier '" + c + "' (known: bow, icp, iclap, iclapn)");
+  const std::vector<std::string> needed = needed_classifiers(methods);
   const auto t0 = std::chrono::steady_clock::now();
   std::string origin;
   Dataset dataset;

@@ -158,20 +158,6 @@ std::string percent(double r) {
   return buf;
 }
 
-/// The classifiers a method needs, in a stable order; UsageError for an
-/// unknown one.
-std::vector<std::string> needed_classifiers(const Method& m) {
-  static const std::vector<std::string> known = {"bow", "icp", "iclap", "iclapn"};
-  const auto used = m.fusion.classifiers();
-  for (const auto& c : used)
-    if (std::find(known.begin(), known.end(), c) == known.end())
-      throw UsageError("--method '" + m.name + "' uses unknown classifier '" + c + "' (known: bow, icp, iclap, iclapn)");
-  std::vector<std::string> out;
-  for (const auto& c : known)
-    if (std::find(used.begin(), used.end(), c) != used.end()) out.push_back(c);
-  return out;
-}
-
 std::vector<double> parse_confidences(const std::string& text) {
   std::vector<double> out;
   std::set<double> seen;
@@ -659,7 +645,7 @@ int run_live_command(const Args& args) {
   setup.ro.codebook_seed = setup.cv.seed;
   setup.cv.weight_repeats = static_cast<int>(o.integer("weight-repeats", 2, 1, 100000));
   setup.cv.threads = static_cast<int>(o.integer("threads", 0, 0, 4096));
-  const std::vector<std::string> needed = needed_classifiers(setup.method);
+  const std::vector<std::string> needed = needed_classifiers({setup.method});
   const RecognitionOptions ro = setup.ro;
   setup.factory = [ro, needed] { return make_classifiers(ro, needed); };
   {

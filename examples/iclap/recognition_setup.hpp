@@ -5,6 +5,7 @@
 // options (shared by `evaluate` and `live`): descriptor, codebook and the
 // classifiers with their ICP settings.
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <set>
@@ -14,6 +15,7 @@
 #include "cli.hpp"
 #include "iclap/data/dataset.hpp"
 #include "iclap/recognition/classifier.hpp"
+#include "iclap/recognition/methods.hpp"
 #include "iclap/recognition/touch_table.hpp"
 #include "iclap/tactile/kmeans.hpp"
 
@@ -31,11 +33,13 @@ struct RecognitionOptions {
   int max_iterations = 50;
   double relative_tolerance = 1e-6;
   double contact_threshold = kDefaultContactThreshold;
+  Index patch_points = 8;            ///< contact points per test touch (patch classifiers)
+  double patch_voxel = 0.002;        ///< reference voxel, metres (patch classifiers)
 
   /// The option names `parse` reads (value options).
   static std::set<std::string> value_options() {
     return {"descriptor", "transform", "scalar", "search", "k", "label-scale", "descriptor-scale",
-            "max-iterations", "relative-tolerance", "contact-threshold"};
+            "max-iterations", "relative-tolerance", "contact-threshold", "patch-points", "patch-voxel"};
   }
   /// Usage lines of those options.
   static const char* usage() {
@@ -51,7 +55,9 @@ struct RecognitionOptions {
            "  --search kdtree|brute   closest-point search (default kdtree)\n"
            "  --max-iterations N      ICP iteration cap (default 50)\n"
            "  --relative-tolerance R  ICP relative-change stop (default 1e-6)\n"
-           "  --contact-threshold P   a frame is a touch when a taxel exceeds P raw units\n";
+           "  --contact-threshold P   a frame is a touch when a taxel exceeds P raw units\n"
+           "  --patch-points N        contact points per test touch for patch, iclap_patch (default 8)\n"
+           "  --patch-voxel V         reference voxel for patch, iclap_patch, metres (default 0.002)\n";
   }
   void parse(const Options& o) {
     descriptor = o.choice("descriptor", {"sift", "raw", "moments"}, descriptor);
@@ -66,13 +72,45 @@ struct RecognitionOptions {
     max_iterations = static_cast<int>(o.integer("max-iterations", max_iterations, 0, 100000));
     relative_tolerance = o.number("relative-tolerance", relative_tolerance, 0.0);
     contact_threshold = o.number("contact-threshold", contact_threshold, 0.0);
+    patch_points = static_cast<Index>(o.integer("patch-points", patch_points, 1, 84 * 100));
+    patch_voxel = o.number("patch-voxel", patch_voxel, 0.0, 1.0);
   }
 };
 
-/// The classifiers named in `names` ("bow", "icp", "iclap", "iclapn"),
+/// The classifiers named in `names` ("bow", "icp", "iclap", "iclapn", "patch",
+/// "iclap_patch"),
 /// configured by `options`. Throws UsageError for an unknown name.
 std::vector<std::unique_ptr<Classifier>> make_classifiers(const RecognitionOptions& options,
                                                           const std::vector<std::string>& names);
+
+/// Every classifier name the commands know, in the order they are built.
+inline const std::vector<std::string>& known_classifiers() {
+  static const std::vector<std::string> names = {"bow", "icp", "iclap", "iclapn", "patch", "iclap_patch"};
+  return names;
+}
+
+/// The classifiers `methods` use, in the order of known_classifiers();
+/// UsageError naming the method and the classifier for an unknown one.
+inline std::vector<std::string> needed_classifiers(const std::vector<Method>& methods) {
+  const auto& known = known_classifiers();
+  std::vector<std::string> out;
+  for (const auto& m : methods)
+    for (const auto& c : m.fusion.classifiers())
+      if (std::find(known.begin(), known.end(), c) == known.end()) {
+        std::string list;
+        for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+        throw UsageError("method '" + m.name + "' uses unknown classifier '" + c + "' (known: " + list + ")");
+      }
+  for (const auto& k : known)
+    for (const auto& m : methods) {
+      const auto used = m.fusion.classifiers();
+      if (std::find(used.begin(), used.end(), k) != used.end()) {
+        out.push_back(k);
+        break;
+      }
+    }
+  return out;
+}
 
 /// The touches of `dataset` described by the chosen descriptor.
 TouchTable make_touch_table(const Dataset& dataset, const RecognitionOptions& options,

@@ -2,6 +2,10 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
+#include <map>
+#include <type_traits>
+#include <utility>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -88,6 +92,111 @@ struct DescriptorEmbedding {
     out.bottomRows(s.features.rows()) = s.features.cast<Scalar>();
   }
 };
+
+/// How the patch classifiers see a touch (beyond the paper): the points where
+/// the pad met the object, i.e. the world positions of its pressed taxels
+/// (`TouchSet::contact_points`), so that a touch tells of a 51 x 24 mm patch
+/// of surface instead of one pad-centre point, and sparse explorations
+/// overlap more. `Labeled` adds the touch's word as a 4th axis, as iCLAP
+/// does. A test uses at most `test_points_per_touch` contact points per
+/// touch (evenly spread over its pressed taxels); a reference keeps all of
+/// them, averaged per `reference_voxel` cube (and per word).
+template <bool Labeled>
+struct ContactEmbedding {
+  static constexpr int dimension = Labeled ? 4 : 3;
+  static constexpr const char* default_name = Labeled ? "iclap_patch" : "patch";
+  double label_scale = 0.001;
+  Index test_points_per_touch = 8;
+  double reference_voxel = 0.002;
+
+  Index dim(const TouchSet& /*touches*/) const noexcept { return dimension; }
+  void validate() const {
+    if (Labeled && (!(label_scale > 0) || !std::isfinite(label_scale)))
+      throw InvalidArgument("label_scale", "must be finite and > 0, got " + std::to_string(label_scale));
+    if (test_points_per_touch < 1)
+      throw InvalidArgument("test_points_per_touch", "must be >= 1, got " + std::to_string(test_points_per_touch));
+    if (!(reference_voxel >= 0) || !std::isfinite(reference_voxel))
+      throw InvalidArgument("reference_voxel", "must be finite and >= 0, got " + std::to_string(reference_voxel));
+  }
+  template <typename Scalar, int Dim>
+  void weights(Point<Scalar, Dim>& w, Index d) const {
+    w = Point<Scalar, Dim>::Ones(d);
+    if (Labeled) w(3) = static_cast<Scalar>(label_scale);
+  }
+  template <typename Scalar, int Dim>
+  void embed(const TouchSet& s, Cloud<Scalar, Dim>& out) const {
+    check(s);
+    Index total = 0;
+    for (Index i = 0; i < s.size(); ++i) total += std::max<Index>(1, std::min(s.contacts_of(i), test_points_per_touch));
+    out.resize(dimension, total);
+    Index k = 0;
+    for (Index i = 0; i < s.size(); ++i) {
+      const Index m = s.contacts_of(i);
+      const Index take = std::min(m, test_points_per_touch);
+      if (take == 0) put(out, k++, s.positions.col(i), s, i);
+      for (Index j = 0; j < take; ++j)
+        put(out, k++, s.contact_points.col(s.contact_offsets[static_cast<std::size_t>(i)] + j * m / take), s, i);
+    }
+  }
+  template <typename Scalar, int Dim>
+  void embed_reference(const TouchSet& s, Cloud<Scalar, Dim>& out) const {
+    check(s);
+    using Key = std::array<long long, 4>;
+    std::map<Key, std::pair<Eigen::Vector3d, Index>> cells;
+    auto add = [&](const Eigen::Vector3d& p, Index word) {
+      Key key{0, 0, 0, Labeled ? static_cast<long long>(word) : 0};
+      for (int a = 0; a < 3; ++a)
+        key[static_cast<std::size_t>(a)] =
+            reference_voxel > 0 ? static_cast<long long>(std::floor(p(a) / reference_voxel)) : 0;
+      auto it = cells.find(key);
+      if (it == cells.end()) it = cells.emplace(key, std::make_pair(Eigen::Vector3d::Zero().eval(), Index(0))).first;
+      it->second.first += p;
+      ++it->second.second;
+    };
+    std::vector<std::pair<Eigen::Vector3d, Index>> raw;  // without a voxel: every point
+    for (Index i = 0; i < s.size(); ++i) {
+      const Index word = Labeled ? s.words(i) : 0;
+      const Index m = s.contacts_of(i);
+      for (Index j = 0; j < std::max<Index>(m, 1); ++j) {
+        const Eigen::Vector3d p =
+            m == 0 ? Eigen::Vector3d(s.positions.col(i))
+                   : Eigen::Vector3d(s.contact_points.col(s.contact_offsets[static_cast<std::size_t>(i)] + j));
+        if (reference_voxel > 0) add(p, word);
+        else raw.emplace_back(p, word);
+      }
+    }
+    if (reference_voxel > 0)
+      for (const auto& c : cells) raw.emplace_back(c.second.first / static_cast<double>(c.second.second), c.first[3]);
+    out.resize(dimension, static_cast<Index>(raw.size()));
+    for (std::size_t k = 0; k < raw.size(); ++k) {
+      out.col(static_cast<Index>(k)).template head<3>() = raw[k].first.template cast<Scalar>();
+      if (Labeled) out(3, static_cast<Index>(k)) = static_cast<Scalar>(raw[k].second);
+    }
+  }
+
+ private:
+  static void check(const TouchSet& s) {
+    if (!s.has_contacts())
+      throw InvalidArgument("touches.contact_points",
+                            "the patch classifiers need contact points (a dataset with the pad orientation qw,qx,qy,qz)");
+    if (Labeled && s.words.size() != s.size()) throw DimensionMismatch("touches.words", s.size(), s.words.size());
+  }
+  template <typename Scalar, int Dim, typename P>
+  static void put(Cloud<Scalar, Dim>& out, Index k, const P& p, const TouchSet& s, Index touch) {
+    out.col(k).template head<3>() = p.template cast<Scalar>();
+    if (Labeled) out(3, k) = static_cast<Scalar>(s.words(touch));
+  }
+};
+
+namespace detail {
+template <typename E, typename Scalar, int Dim, typename = void>
+struct has_embed_reference : std::false_type {};
+template <typename E, typename Scalar, int Dim>
+struct has_embed_reference<E, Scalar, Dim,
+                           std::void_t<decltype(std::declval<const E&>().template embed_reference<Scalar, Dim>(
+                               std::declval<const TouchSet&>(), std::declval<Cloud<Scalar, Dim>&>()))>>
+    : std::true_type {};
+}  // namespace detail
 
 /// How `RegistrationClassifier::decide` avoids registering the test against
 /// every object to the end.
@@ -177,7 +286,10 @@ class RegistrationClassifier final : public Classifier {
       const std::string arg = "objects[" + std::to_string(j) + "]";
       objects[j].validate(arg);
       check_embedded_dimension(objects[j], arg);
-      embedding.template embed<Scalar, Dim>(objects[j], points);
+      if constexpr (detail::has_embed_reference<Embedding, Scalar, Dim>::value)
+        embedding.template embed_reference<Scalar, Dim>(objects[j], points);
+      else
+        embedding.template embed<Scalar, Dim>(objects[j], points);
       if (max_reference_points > 0 && points.cols() > max_reference_points) {
         Cloud<Scalar, Dim> kept(points.rows(), max_reference_points);
         for (Index k = 0; k < max_reference_points; ++k)
@@ -429,6 +541,14 @@ using IcpClassifier = RegistrationClassifier<PositionEmbedding, Scalar, 3, Model
 /// 4-D iCLAP on (x, y, z, word) ("iclap").
 template <typename Scalar = float, typename Model = Planar, typename Search = KdTreeSearch<Scalar, 4>>
 using IclapClassifier = RegistrationClassifier<LabeledEmbedding, Scalar, 4, Model, Search>;
+
+/// 3-D ICP on contact patches ("patch", beyond the paper).
+template <typename Scalar = float, typename Model = Planar, typename Search = KdTreeSearch<Scalar, 3>>
+using PatchClassifier = RegistrationClassifier<ContactEmbedding<false>, Scalar, 3, Model, Search>;
+
+/// 4-D iCLAP on contact patches labeled with their touch's word ("iclap_patch").
+template <typename Scalar = float, typename Model = Planar, typename Search = KdTreeSearch<Scalar, 4>>
+using IclapPatchClassifier = RegistrationClassifier<ContactEmbedding<true>, Scalar, 4, Model, Search>;
 
 /// (3 + Length)-D iCLAP on (x, y, z, descriptor) ("iclapn"); Length is the
 /// descriptor length (72 for Tactile-SIFT 3x3x8) or Eigen::Dynamic.

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -16,13 +17,28 @@ namespace iclap {
 /// (pad centre, metres), what it felt (its descriptor) and its word (the
 /// codebook's label of that descriptor). Column / element i is touch i.
 /// A classifier reads only what it needs (ICP: positions; BoW: words;
-/// iCLAP: positions and words; iCLAP-N: positions and features).
+/// iCLAP: positions and words; iCLAP-N: positions and features; the patch
+/// classifiers: contact points).
+///
+/// Contact points (optional) are where the object met the pad: the world
+/// positions of the taxels of each touch that were pressed, so one touch
+/// tells of a patch of surface instead of one point. Touch i owns columns
+/// [contact_offsets[i], contact_offsets[i + 1]) of `contact_points`;
+/// `contact_offsets` is empty when no touch has them.
 struct TouchSet {
   Eigen::Matrix3Xd positions;
   Eigen::MatrixXf features;
   WordIds words;
+  Eigen::Matrix3Xd contact_points;
+  std::vector<Index> contact_offsets;
 
   Index size() const noexcept { return positions.cols(); }
+  bool has_contacts() const noexcept { return !contact_offsets.empty(); }
+  /// Number of contact points of touch i (0 without contact points).
+  Index contacts_of(Index i) const {
+    return has_contacts() ? contact_offsets[static_cast<std::size_t>(i) + 1] - contact_offsets[static_cast<std::size_t>(i)]
+                          : 0;
+  }
 
   /// Throws EmptyInput / DimensionMismatch / NonFiniteValue naming
   /// `argument` when the set is empty, its parts disagree in length (parts
@@ -36,6 +52,16 @@ struct TouchSet {
       check_finite(features, argument + ".features");
     }
     if (words.size() > 0) check_dimension(words.size(), positions.cols(), argument + ".words (touches)");
+    if (has_contacts()) {
+      check_dimension(static_cast<Index>(contact_offsets.size()), positions.cols() + 1,
+                      argument + ".contact_offsets (touches + 1)");
+      if (contact_offsets.front() != 0 || contact_offsets.back() != contact_points.cols() ||
+          !std::is_sorted(contact_offsets.begin(), contact_offsets.end()))
+        throw InvalidArgument(argument + ".contact_offsets",
+                              "must rise from 0 to the number of contact points (" +
+                                  std::to_string(contact_points.cols()) + ")");
+      check_finite(contact_points, argument + ".contact_points");
+    }
   }
 };
 
@@ -54,6 +80,22 @@ TouchSet select_touches(const TouchSet& source, const Indices& indices) {
     if (source.features.size() > 0) out.features.col(j) = source.features.col(s);
     if (source.words.size() > 0) out.words(j) = source.words(s);
     ++j;
+  }
+  if (source.has_contacts()) {
+    out.contact_offsets.reserve(static_cast<std::size_t>(n) + 1);
+    out.contact_offsets.push_back(0);
+    Index total = 0;
+    for (const auto i : indices) total += source.contacts_of(static_cast<Index>(i));
+    out.contact_points.resize(3, total);
+    Index k = 0;
+    for (const auto i : indices) {
+      const auto s = static_cast<Index>(i);
+      const Index m = source.contacts_of(s);
+      out.contact_points.middleCols(k, m) =
+          source.contact_points.middleCols(source.contact_offsets[static_cast<std::size_t>(s)], m);
+      k += m;
+      out.contact_offsets.push_back(k);
+    }
   }
   return out;
 }

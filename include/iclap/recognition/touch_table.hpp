@@ -2,6 +2,8 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -42,8 +44,47 @@ struct TouchTable {
   }
 };
 
+/// The taxel pitch of a dataset, metres: the `pitch_m=` value of a comment
+/// such as "sensor: WTS 0614-34A rows=14 cols=6 pitch_m=0.0034" (what the
+/// recorder and the simulator write), otherwise `fallback` (the WTS 0614-34A's
+/// 3.4 mm).
+inline double taxel_pitch_of(const Dataset& dataset, double fallback = 0.0034) {
+  for (const auto& c : dataset.comments) {
+    const auto at = c.find("pitch_m=");
+    if (at == std::string::npos) continue;
+    char* end = nullptr;
+    const double v = std::strtod(c.c_str() + at + 8, &end);
+    if (end != c.c_str() + at + 8 && std::isfinite(v) && v > 0) return v;
+  }
+  return fallback;
+}
+
+/// The world positions of the pressed taxels of `frame` (pressure above
+/// `threshold`), appended to `out`: taxel (r, c) sits at ((r - (rows-1)/2)
+/// pitch, (c - (cols-1)/2) pitch, 0) in the pad frame, whose x axis runs
+/// along the rows, y along the columns and z into the object; the frame's
+/// orientation (qw..qz) turns the pad frame into the world. Nothing is
+/// appended for a frame without orientation. Returns the number appended.
+inline Index append_contact_points(const Frame& frame, double threshold, double pitch, std::vector<Eigen::Vector3d>& out) {
+  if (!frame.orientation) return 0;
+  const Eigen::Matrix3d R = frame.orientation->normalized().toRotationMatrix();
+  const double r0 = 0.5 * static_cast<double>(frame.pressures.rows() - 1);
+  const double c0 = 0.5 * static_cast<double>(frame.pressures.cols() - 1);
+  Index n = 0;
+  for (Index r = 0; r < frame.pressures.rows(); ++r)
+    for (Index c = 0; c < frame.pressures.cols(); ++c)
+      if (frame.pressures(r, c) > threshold) {
+        out.push_back(frame.position +
+                      R * Eigen::Vector3d((static_cast<double>(r) - r0) * pitch, (static_cast<double>(c) - c0) * pitch, 0.0));
+        ++n;
+      }
+  return n;
+}
+
 /// Builds the touch table of `dataset`: keeps the frames whose largest taxel
-/// is above `contact_threshold` (raw units) and runs `descriptor` on each.
+/// is above `contact_threshold` (raw units) and runs `descriptor` on each;
+/// for frames with an orientation, also their contact points
+/// (`append_contact_points`, pitch from `taxel_pitch_of`).
 /// Throws EmptyInput naming "dataset" when no frame is a contact.
 /// `progress` gets (frames done, frames).
 template <typename Descriptor>
@@ -66,6 +107,9 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
   if (kept.empty())
     throw EmptyInput("dataset", "has no contact frame (no taxel above " + std::to_string(contact_threshold) + ")");
   const auto n = static_cast<Index>(kept.size());
+  const double pitch = taxel_pitch_of(dataset);
+  std::vector<Eigen::Vector3d> contacts;
+  std::vector<Index> offsets{0};
   t.touches.positions.resize(3, n);
   t.object.resize(kept.size());
   t.exploration.resize(kept.size());
@@ -80,9 +124,15 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
     const auto feature = descriptor.compute(TactileImage(f.pressures));
     if (j == 0) t.touches.features.resize(feature.size(), n);
     t.touches.features.col(j) = feature.template cast<float>();
+    offsets.push_back(offsets.back() + append_contact_points(f, contact_threshold, pitch, contacts));
     if (progress && (j % 256 == 0 || j + 1 == n)) progress(static_cast<std::size_t>(j + 1), kept.size());
   }
   check_finite(t.touches.features, "features");
+  if (!contacts.empty()) {
+    t.touches.contact_points.resize(3, static_cast<Index>(contacts.size()));
+    for (std::size_t k = 0; k < contacts.size(); ++k) t.touches.contact_points.col(static_cast<Index>(k)) = contacts[k];
+    t.touches.contact_offsets = std::move(offsets);
+  }
   return t;
 }
 

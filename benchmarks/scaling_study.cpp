@@ -1,0 +1,164 @@
+// SPDX-License-Identifier: MIT
+//
+// Cost of recognising among many objects, with and without pruning: iCLAP
+// (planar, float) decisions of 20-touch test sets against 20, 100 and 500
+// simulated objects. Objects beyond the 20 built-in ones are built-in shapes
+// stretched per axis (0.75-1.35, seeded), so the set gets harder as it grows.
+// References from explorations 1-4, tests from exploration 0 (2 draws per
+// object), single-threaded. Reports the time per recognition, its ratio to
+// the 20-object cost without pruning, and the accuracy lost to pruning.
+//
+//   build/release/benchmarks/scaling_study [--sizes 20,100,500] [--out DIR]
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "iclap/io/atomic_file.hpp"
+#include "iclap/recognition/recognition.hpp"
+#include "iclap/sim/builtin_objects.hpp"
+#include "iclap/sim/simulator.hpp"
+#include "iclap/tactile/tactile_sift.hpp"
+
+namespace {
+
+using namespace iclap;
+
+std::vector<SimObject> objects(std::size_t n) {
+  std::vector<SimObject> base = builtin_objects();
+  std::vector<SimObject> out;
+  Rng rng(2026);
+  for (std::size_t i = 0; i < n; ++i) {
+    const SimObject& b = base[i % base.size()];
+    if (i < base.size()) {
+      out.push_back(b);
+      continue;
+    }
+    TriangleMesh m = b.shape.mesh();
+    const Eigen::Vector3d s(rng.uniform(0.75, 1.35), rng.uniform(0.75, 1.35), rng.uniform(0.75, 1.35));
+    m.vertices = s.asDiagonal() * m.vertices;
+    out.push_back(make_sim_object(b.name + "_v" + std::to_string(i / base.size()), std::move(m), false));
+  }
+  return out;
+}
+
+struct Measure {
+  double ms = 0;
+  double rate = 0;
+  double registrations = 0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::size_t> sizes = {20, 100, 500};
+  std::string out = "scaling_study";
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--out") && i + 1 < argc) {
+      out = argv[++i];
+    } else if (!std::strcmp(argv[i], "--sizes") && i + 1 < argc) {
+      sizes.clear();
+      for (const char* p = argv[++i]; *p;) {
+        char* end = nullptr;
+        const long v = std::strtol(p, &end, 10);
+        if (end == p || v < 2) {
+          std::fprintf(stderr, "scaling_study: bad --sizes\n");
+          return 2;
+        }
+        sizes.push_back(static_cast<std::size_t>(v));
+        p = *end == ',' ? end + 1 : end;
+      }
+    } else {
+      std::fprintf(stderr, "usage: scaling_study [--sizes 20,100,500] [--out DIR]\n");
+      return 2;
+    }
+  }
+  std::vector<PruningSettings> schedules(5);
+  schedules[0].schedule = PruningSettings::Schedule::None;
+  schedules[1].schedule = PruningSettings::Schedule::Bound;
+  for (std::size_t i = 2; i < 5; ++i) schedules[i].schedule = PruningSettings::Schedule::Halving;
+  schedules[3].round_iterations = 1;
+  schedules[3].keep_fraction = 0.25;
+  schedules[3].finalists = 3;
+  schedules[4].round_iterations = 3;
+  schedules[4].keep_fraction = 0.2;
+  schedules[4].finalists = 4;
+  const char* names[] = {"every registration", "lower-bound pruning (exact)", "halving 2 it, keep 1/2, 2 final",
+                         "halving 1 it, keep 1/4, 3 final", "halving 3 it, keep 1/5, 4 final"};
+  std::vector<std::vector<Measure>> results;
+  std::printf("iCLAP decisions of 20-touch tests, 1 thread\n%8s  %-33s %10s %12s %14s %8s %10s\n", "objects",
+              "schedule", "ms/recog.", "x 20 objects", "registrations", "rate", "rate lost");
+  for (std::size_t n : sizes) {
+    SimulationSettings sim;
+    sim.threads = 0;
+    const Dataset ds = simulate_dataset(objects(n), sim, 1);
+    const TouchTable table = make_touch_table(ds, TactileSift<float>{});
+    std::vector<Index> train;
+    for (Index i = 0; i < table.size(); ++i)
+      if (table.exploration[static_cast<std::size_t>(i)] != 0) train.push_back(i);
+    Eigen::MatrixXf f(table.touches.features.rows(), static_cast<Index>(train.size()));
+    for (std::size_t j = 0; j < train.size(); ++j) f.col(static_cast<Index>(j)) = table.touches.features.col(train[j]);
+    KMeansQuantizer<float> q;
+    q.settings.k = 50;
+    q.settings.seed = 1;
+    q.fit(f);
+    TouchSet all = table.touches;
+    all.words = assign_words(q, table.touches.features);
+    std::vector<TouchSet> refs;
+    std::vector<std::pair<Index, TouchSet>> tests;
+    for (Index o = 0; o < static_cast<Index>(table.objects.size()); ++o) {
+      std::vector<Index> tr, te;
+      for (Index i = 0; i < table.size(); ++i) {
+        if (table.object[static_cast<std::size_t>(i)] != o) continue;
+        (table.exploration[static_cast<std::size_t>(i)] == 0 ? te : tr).push_back(i);
+      }
+      refs.push_back(select_touches(all, tr));
+      for (std::uint64_t r = 0; r < 2 && !te.empty(); ++r) {
+        Rng rng = Rng::derive(7, static_cast<std::uint64_t>(o), r);
+        std::vector<Index> p = te;
+        for (std::size_t i = 0; i < 20 && i < p.size(); ++i)
+          std::swap(p[i], p[i + static_cast<std::size_t>(rng.below(p.size() - i))]);
+        p.resize(std::min<std::size_t>(20, p.size()));
+        tests.emplace_back(o, select_touches(all, p));
+      }
+    }
+    IclapClassifier<float, Planar> c;
+    c.fit(refs, q.size());
+    std::vector<Measure> row;
+    for (const PruningSettings& p : schedules) {
+      Measure m;
+      std::size_t correct = 0;
+      const auto t0 = std::chrono::steady_clock::now();
+      for (const auto& [truth, test] : tests) {
+        const PrunedDecision d = c.decide(test, p);
+        correct += d.object == truth;
+        m.registrations += static_cast<double>(d.completed);
+      }
+      m.ms = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() /
+             static_cast<double>(tests.size());
+      m.rate = static_cast<double>(correct) / static_cast<double>(tests.size());
+      m.registrations /= static_cast<double>(tests.size());
+      row.push_back(m);
+    }
+    results.push_back(row);
+    for (std::size_t s = 0; s < row.size(); ++s)
+      std::printf("%8zu  %-33s %10.3f %12.2f %14.1f %7.1f%% %9.1f\n", n, names[s], row[s].ms,
+                  row[s].ms / results.front()[0].ms, row[s].registrations, 100 * row[s].rate,
+                  100 * (row[0].rate - row[s].rate));
+    std::fflush(stdout);
+  }
+  std::filesystem::create_directories(out);
+  AtomicFileWriter w(out + "/scaling_study.csv");
+  w.stream() << "objects,schedule,ms_per_recognition,ratio_to_first_size_full,registrations_completed,rate\n";
+  for (std::size_t i = 0; i < sizes.size(); ++i)
+    for (std::size_t s = 0; s < results[i].size(); ++s)
+      w.stream() << sizes[i] << "," << names[s] << "," << results[i][s].ms << ","
+                 << results[i][s].ms / results.front()[0].ms << "," << results[i][s].registrations << ","
+                 << results[i][s].rate << "\n";
+  w.commit();
+  std::printf("wrote %s/scaling_study.csv\n", out.c_str());
+  return 0;
+}

@@ -1,0 +1,142 @@
+// SPDX-License-Identifier: MIT
+// Contact points of touches and the contact-patch classifiers.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "iclap/core/random.hpp"
+#include "iclap/recognition/recognition.hpp"
+#include "iclap/tactile/raw_pressures.hpp"
+
+using namespace iclap;
+
+namespace {
+
+Frame frame(const std::string& object, std::int64_t exploration, Eigen::Vector3d position, double yaw) {
+  Frame f;
+  f.object = object;
+  f.exploration = exploration;
+  f.position = position;
+  // Pad facing down: z into the object is world -z; x along the rows turned by `yaw`.
+  const Eigen::Matrix3d down = Eigen::AngleAxisd(3.141592653589793, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  f.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * down);
+  f.pressures = Eigen::MatrixXd::Zero(14, 6);
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("contact points: pressed taxels placed by the pad pose and pitch") {
+  Dataset ds;
+  ds.rows = 14;
+  ds.cols = 6;
+  ds.comments = {"sensor: WTS 0614-34A rows=14 cols=6 pitch_m=0.004"};
+  CHECK(taxel_pitch_of(ds) == 0.004);
+  Frame a = frame("a", 0, Eigen::Vector3d(1.0, 2.0, 0.5), 0.0);
+  a.pressures(0, 0) = 100;   // a corner taxel
+  a.pressures(13, 5) = 100;  // the opposite corner
+  a.pressures(6, 2) = 10;    // below the threshold: not a contact point
+  Frame b = frame("a", 1, Eigen::Vector3d(0.0, 0.0, 0.1), 3.141592653589793 / 2);
+  b.pressures(13, 2) = 50;
+  Frame idle = frame("a", 0, Eigen::Vector3d::Zero(), 0.0);  // no contact at all
+  ds.frames = {a, b, idle};
+  const TouchTable t = make_touch_table(ds, RawPressures<float>{}, 20.0);
+  REQUIRE(t.size() == 2);
+  REQUIRE(t.touches.has_contacts());
+  CHECK(t.touches.contacts_of(0) == 2);
+  CHECK(t.touches.contacts_of(1) == 1);
+  // Taxel (0, 0) is at (-6.5, -2.5) pitches in the pad frame; the pad faces
+  // down (pad y = world -y).
+  CHECK((t.touches.contact_points.col(0) - Eigen::Vector3d(1.0 - 6.5 * 0.004, 2.0 + 2.5 * 0.004, 0.5)).norm() < 1e-12);
+  CHECK((t.touches.contact_points.col(1) - Eigen::Vector3d(1.0 + 6.5 * 0.004, 2.0 - 2.5 * 0.004, 0.5)).norm() < 1e-12);
+  // Turned by 90 degrees: pad x (rows) is world y, pad y is world x; taxel
+  // (13, 2) is at (6.5, -0.5) pitches.
+  CHECK((t.touches.contact_points.col(2) - Eigen::Vector3d(-0.5 * 0.004, 6.5 * 0.004, 0.1)).norm() < 1e-12);
+  // Selection keeps each touch's points.
+  const TouchSet second = select_touches(t.touches, std::vector<Index>{1});
+  CHECK(second.contact_offsets == std::vector<Index>{0, 1});
+  CHECK(second.contact_points.col(0) == t.touches.contact_points.col(2));
+  CHECK_NOTHROW(second.validate("s"));
+  TouchSet broken = second;
+  broken.contact_offsets = {0, 2};
+  CHECK_THROWS_AS(broken.validate("s"), InvalidArgument);
+  // Without orientation there are no contact points.
+  for (auto& f : ds.frames) f.orientation.reset();
+  CHECK(!make_touch_table(ds, RawPressures<float>{}, 20.0).touches.has_contacts());
+  CHECK(taxel_pitch_of(Dataset{}) == 0.0034);
+}
+
+TEST_CASE("contact embedding: test subsampling and reference voxels") {
+  TouchSet s;
+  s.positions = Eigen::Matrix3Xd::Zero(3, 2);
+  s.words = WordIds::Constant(2, 7);
+  s.words(1) = 3;
+  s.contact_points.resize(3, 12);
+  for (Index k = 0; k < 12; ++k) s.contact_points.col(k) << 0.001 * static_cast<double>(k), 0.0, 0.0;
+  s.contact_offsets = {0, 10, 12};
+  ContactEmbedding<true> e;
+  e.test_points_per_touch = 5;
+  Cloud<float, 4> test;
+  e.embed<float, 4>(s, test);
+  REQUIRE(test.cols() == 7);  // 5 of the first touch's 10, both of the second's
+  CHECK(test(0, 1) == doctest::Approx(0.002));  // every other point
+  CHECK(test(3, 0) == 7.0f);
+  CHECK(test(3, 6) == 3.0f);
+  e.reference_voxel = 0.004;
+  Cloud<float, 4> ref;
+  e.embed_reference<float, 4>(s, ref);
+  // Points 0..9 (word 7) fall in voxels [0,4), [4,8), [8,12) mm; 10, 11 (word 3) in [8,12) but another word.
+  CHECK(ref.cols() == 4);
+  e.reference_voxel = 0;
+  e.embed_reference<float, 4>(s, ref);
+  CHECK(ref.cols() == 12);
+  e.test_points_per_touch = 0;
+  CHECK_THROWS_AS(e.validate(), InvalidArgument);
+  TouchSet none;
+  none.positions = Eigen::Matrix3Xd::Zero(3, 1);
+  PatchClassifier<float> p;
+  CHECK_THROWS_WITH_AS(p.fit({none}, 4),
+                       "touches.contact_points: the patch classifiers need contact points (a dataset with the pad "
+                       "orientation qw,qx,qy,qz)",
+                       InvalidArgument);
+}
+
+TEST_CASE("patch classifiers recognise tests drawn from their own training data") {
+  // Three flat objects of different outlines touched from above: each touch
+  // presses a 3 x 3 block of taxels around its pad centre.
+  Rng rng(3);
+  std::vector<TouchSet> objects;
+  for (int o = 0; o < 3; ++o) {
+    TouchSet s;
+    const int n = 40;
+    s.positions.resize(3, n);
+    s.words.resize(n);
+    s.contact_offsets = {0};
+    std::vector<Eigen::Vector3d> pts;
+    for (int i = 0; i < n; ++i) {
+      const double u = rng.uniform(-1, 1), v = rng.uniform(-1, 1);
+      const Eigen::Vector3d c(0.05 * (1 + o) * u, 0.02 * v, 0.01 * (1 + o));
+      s.positions.col(i) = c;
+      s.words(i) = (i + o) % 4;
+      for (int a = -1; a <= 1; ++a)
+        for (int b = -1; b <= 1; ++b) pts.push_back(c + Eigen::Vector3d(0.0034 * a, 0.0034 * b, 0));
+      s.contact_offsets.push_back(static_cast<Index>(pts.size()));
+    }
+    s.contact_points.resize(3, static_cast<Index>(pts.size()));
+    for (std::size_t k = 0; k < pts.size(); ++k) s.contact_points.col(static_cast<Index>(k)) = pts[k];
+    objects.push_back(std::move(s));
+  }
+  PatchClassifier<float> patch;
+  IclapPatchClassifier<double> labeled;
+  patch.fit(objects, 4);
+  labeled.fit(objects, 4);
+  for (Index o = 0; o < 3; ++o) {
+    const TouchSet test = select_touches(objects[static_cast<std::size_t>(o)], std::vector<Index>{1, 5, 9, 13, 17});
+    Eigen::VectorXd d(3);
+    patch.distances(test, d);
+    CHECK(decide(d) == o);
+    labeled.distances(test, d);
+    CHECK(decide(d) == o);
+    CHECK(patch.decide(test, {PruningSettings::Schedule::Bound}).object == o);
+  }
+}
