@@ -138,46 +138,53 @@ class Icp {
   template <typename Search>
   Acc correspond(const Cloud<Scalar, Dim>& P, const BlockMatrix& R, const BlockVector& t, const Search& search,
                  Point<Scalar, Dim>& y, std::vector<Correspondence<Scalar>>& pairs, Index b, Index& kept) const {
-    const Index n = P.cols();
+    const Index n = P.cols(), d = P.rows();
+    Acc all = 0;  // E over every pair, summed in test order
     for (Index i = 0; i < n; ++i) {
-      y = P.col(i);
-      auto yb = block_of(y, b);
-      yb.noalias() = R * block_of(P.col(i), b);
-      yb += t;
+      // y = block motion applied to the moved coordinates, the rest copied.
+      if constexpr (Dim != Eigen::Dynamic && B == Dim) {
+        y.noalias() = R * P.col(i);
+        y += t;
+      } else {
+        auto yb = block_of(y, b);
+        yb.noalias() = R * block_of(P.col(i), b);
+        yb += t;
+        if (d > b) y.tail(d - b) = P.col(i).tail(d - b);
+      }
       const auto nb = search.nearest(y.data());
       pairs[static_cast<std::size_t>(i)] = {i, nb.index, nb.squared_distance};
+      all += static_cast<Acc>(nb.squared_distance);
     }
     kept = rejection.select(pairs.data(), n);
+    if (kept == n) return all;
     Acc e = 0;
     for (Index k = 0; k < kept; ++k) e += static_cast<Acc>(pairs[static_cast<std::size_t>(k)].squared_distance);
     return e;
   }
 
-  /// Two-pass centroids and cross-covariance of the kept pairs (block
-  /// coordinates), then the model's closed-form estimate.
+  /// Centroids and cross-covariance of the kept pairs (block coordinates) in
+  /// one pass, shifted by the first pair so that no precision is lost to a
+  /// large common offset, then the model's closed-form estimate.
   BlockEstimate<Acc, B> estimate(const Cloud<Scalar, Dim>& P, const Cloud<Scalar, Dim>& M,
                                  const std::vector<Correspondence<Scalar>>& pairs, Index kept, Index b) const {
-    AccBlockVector cp = AccBlockVector::Zero(b), cq = AccBlockVector::Zero(b);
+    const auto& first = pairs.front();
+    const AccBlockVector p0 = block_of(P.col(first.test), b).template cast<Acc>();
+    const AccBlockVector q0 = block_of(M.col(first.model), b).template cast<Acc>();
+    AccBlockVector sp = AccBlockVector::Zero(b), sq = AccBlockVector::Zero(b), dp(b), dq(b);
+    AccBlockMatrix H = AccBlockMatrix::Zero(b, b);
     for (Index k = 0; k < kept; ++k) {
       const auto& c = pairs[static_cast<std::size_t>(k)];
-      cp += block_of(P.col(c.test), b).template cast<Acc>();
-      cq += block_of(M.col(c.model), b).template cast<Acc>();
+      dp = block_of(P.col(c.test), b).template cast<Acc>() - p0;
+      dq = block_of(M.col(c.model), b).template cast<Acc>() - q0;
+      sp += dp;
+      sq += dq;
+      if constexpr (Model::uses_covariance) H.noalias() += dp * dq.transpose();
     }
-    cp /= static_cast<Acc>(kept);
-    cq /= static_cast<Acc>(kept);
-    AccBlockMatrix H = AccBlockMatrix::Zero(b, b);
-    if constexpr (Model::uses_covariance) {
-      AccBlockVector dp(b), dq(b);
-      for (Index k = 0; k < kept; ++k) {
-        const auto& c = pairs[static_cast<std::size_t>(k)];
-        dp = block_of(P.col(c.test), b).template cast<Acc>() - cp;
-        dq = block_of(M.col(c.model), b).template cast<Acc>() - cq;
-        H.noalias() += dp * dq.transpose();
-      }
-    }
+    const Acc inv = Acc(1) / static_cast<Acc>(kept);
+    if constexpr (Model::uses_covariance) H.noalias() -= (sp * inv) * sq.transpose();
+    const AccBlockVector cp = p0 + sp * inv, cq = q0 + sq * inv;
     return Model::template estimate<Acc, B>(cp, cq, H, detail::rank_tolerance<Scalar>(b));
   }
-
 };
 
 /// A registration in progress (see Icp::start). After construction the

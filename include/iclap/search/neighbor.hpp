@@ -24,6 +24,14 @@ namespace detail {
 /// order; from 8 on, eight independent partial sums (coordinate i goes to
 /// sum i mod 8, combined pairwise), which lets the CPU overlap the additions
 /// of long feature vectors (about 3x faster at 72-D).
+///
+/// GCC 12 analyses the unrolled path also where it is unreachable (a run-time
+/// dimension below 8 with a query of known small size) and reports array
+/// bounds there; the diagnostic is silenced for this function only.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Warray-bounds"
+#endif
 template <int Dim, typename Scalar>
 inline Scalar squared_distance(const Scalar* a, const Scalar* b, Index dim) noexcept {
   const Index n = Dim > 0 ? Index(Dim) : dim;
@@ -43,12 +51,16 @@ inline Scalar squared_distance(const Scalar* a, const Scalar* b, Index dim) noex
       s[k] += d * d;
     }
   }
-  for (int k = 0; i < n; ++i, ++k) {
-    const Scalar d = a[i] - b[i];
+  const Index rest = n - i;  // < 8
+  for (Index k = 0; k < rest && k < 8; ++k) {
+    const Scalar d = a[i + k] - b[i + k];
     s[k] += d * d;
   }
   return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
 }
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 
 /// Tie rule shared by all search policies: the smaller distance wins, and on
 /// equal distances the smaller index.

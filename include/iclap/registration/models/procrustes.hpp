@@ -66,7 +66,14 @@ void proper_rotation(const SquareMatrix<Acc, B>& H, double rank_tol, SquareMatri
     }
     degenerate = rank_deficient<Acc, B>(svd.singularValues(), rank_tol);
   };
-  if (B != Eigen::Dynamic || n <= 16) {
+  // Jacobi for small blocks, divide and conquer for large ones; decided at
+  // compile time when the size is fixed, so a 3-D registration never
+  // compiles the (large) BDCSVD code.
+  if constexpr (B != Eigen::Dynamic && B <= 16) {
+    decompose(Eigen::JacobiSVD<Matrix>(H, Eigen::ComputeFullU | Eigen::ComputeFullV));
+  } else if constexpr (B != Eigen::Dynamic) {
+    decompose(Eigen::BDCSVD<Matrix>(H, Eigen::ComputeFullU | Eigen::ComputeFullV));
+  } else if (n <= 16) {
     decompose(Eigen::JacobiSVD<Matrix>(H, Eigen::ComputeFullU | Eigen::ComputeFullV));
   } else {
     decompose(Eigen::BDCSVD<Matrix>(H, Eigen::ComputeFullU | Eigen::ComputeFullV));
