@@ -66,6 +66,34 @@ TEST_CASE("ties go to the smaller index in both policies") {
   CHECK(tree.nearest(up).squared_distance == 0.0);
 }
 
+TEST_CASE_TEMPLATE("a warm-start hint never changes the answer", T, float, double) {
+  static_assert(detail::has_hinted_nearest<KdTreeSearch<T, 3>, T>::value);
+  static_assert(!detail::has_hinted_nearest<BruteForceSearch<T, 3>, T>::value);
+  for (Index dim : {2, 3, 8}) {
+    const auto pts = random_cloud<T, Eigen::Dynamic>(dim, 400, 21 + static_cast<std::uint64_t>(dim));
+    const KdTreeSearch<T> tree(pts);
+    const BruteForceSearch<T> brute(pts);
+    const auto queries = random_cloud<T, Eigen::Dynamic>(dim, 40, 22, 1.2);
+    for (Index q = 0; q < queries.cols(); ++q) {
+      const auto expected = brute.nearest(queries.col(q).data());
+      // Good, bad and absent hints alike.
+      for (Index hint : {expected.index, Index(0), Index(399), Index(q * 7), Index(-1), Index(400)}) {
+        const auto got = tree.nearest(queries.col(q).data(), hint);
+        CHECK(got.index == expected.index);
+        CHECK(got.squared_distance == expected.squared_distance);
+      }
+    }
+  }
+  // Ties: hinting the larger of two equal indices still returns the smaller.
+  Cloud<T, 2> dup(2, 4);
+  dup << 1, 0, 0, 1,  //
+      0, 1, 1, 0;
+  const KdTreeSearch<T, 2> tree(dup, {1});
+  const Eigen::Matrix<T, 2, 1> up(0, 1);
+  CHECK(tree.nearest(up.data(), 2).index == 1);
+  CHECK(tree.nearest(up.data(), 3).index == 1);
+}
+
 TEST_CASE("far clusters and large offsets") {
   Cloud<double, 3> pts = random_cloud<double, 3>(3, 200, 11, 1.0, 1e6);
   pts.rightCols(100) = random_cloud<double, 3>(3, 100, 12, 1.0, -1e6);

@@ -28,6 +28,8 @@ template <typename Scalar, int Dim>
 struct IcpWorkspace {
   Cloud<Scalar, Dim> test_points;
   std::vector<Correspondence<Scalar>> pairs;
+  /// Each test point's previous match, the warm start of its next query.
+  std::vector<Index> hints;
 };
 
 /// Iterative Closest (Labeled) Point in `Dim` dimensions (paper, Section III).
@@ -137,7 +139,8 @@ class Icp {
   /// Returns E over the kept pairs, which are moved to the front.
   template <typename Search>
   Acc correspond(const Cloud<Scalar, Dim>& P, const BlockMatrix& R, const BlockVector& t, const Search& search,
-                 Point<Scalar, Dim>& y, std::vector<Correspondence<Scalar>>& pairs, Index b, Index& kept) const {
+                 Point<Scalar, Dim>& y, std::vector<Correspondence<Scalar>>& pairs, std::vector<Index>& hints,
+                 Index b, Index& kept) const {
     const Index n = P.cols(), d = P.rows();
     Acc all = 0;  // E over every pair, summed in test order
     for (Index i = 0; i < n; ++i) {
@@ -151,7 +154,14 @@ class Icp {
         yb += t;
         if (d > b) y.tail(d - b) = P.col(i).tail(d - b);
       }
-      const auto nb = search.nearest(y.data());
+      Neighbor<Scalar> nb;
+      if constexpr (detail::has_hinted_nearest<Search, Scalar>::value) {
+        nb = search.nearest(y.data(), hints[static_cast<std::size_t>(i)]);  // same answer, found sooner
+        hints[static_cast<std::size_t>(i)] = nb.index;
+      } else {
+        (void)hints;
+        nb = search.nearest(y.data());
+      }
       pairs[static_cast<std::size_t>(i)] = {i, nb.index, nb.squared_distance};
       all += static_cast<Acc>(nb.squared_distance);
     }
@@ -234,6 +244,7 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
       ws.test_points.col(j) = w.cwiseProduct(tmp).template cast<Scalar>();
     }
     ws.pairs.resize(static_cast<std::size_t>(n));
+    ws.hints.assign(static_cast<std::size_t>(n), Index(-1));
 
     // Block motion in working coordinates.
     R_acc_ = AccBlockMatrix::Identity(b_, b_);
@@ -333,7 +344,8 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
   using AccBlockVector = Point<Acc, B>;
 
   void match_and_check() {
-    error_ = icp_->correspond(ws_->test_points, R_, t_, reference_->search(), y_, ws_->pairs, b_, kept_);
+    error_ = icp_->correspond(ws_->test_points, R_, t_, reference_->search(), y_, ws_->pairs, ws_->hints, b_,
+                              kept_);
     if (kept_ == 0) {
       done_ = true;
       reason_ = StopReason::NoCorrespondences;

@@ -134,6 +134,25 @@ class KdTreeSearch {
     return result;
   }
 
+  /// Warm-started query: the same answer as `nearest(query)` (same distance,
+  /// same tie rule), but the search starts with `hint`'s distance as its bound,
+  /// so subtrees farther than the hint are never visited. ICP passes each test
+  /// point's previous match, which after a small motion is at or near the
+  /// nearest point. A hint outside [0, size()) means no hint.
+  Neighbor<Scalar> nearest(const Scalar* query, Index hint) const {
+    if (!impl_ || hint < 0 || hint >= impl_->points.cols()) return nearest(query);
+    detail::NearestTieAwareResultSet<Scalar> set;
+    set.addPoint(detail::squared_distance<Dim>(query, impl_->points.col(hint).data(), impl_->points.rows()),
+                 static_cast<std::uint32_t>(hint));
+    impl_->tree.findNeighbors(set, query, nanoflann::SearchParams());
+    Neighbor<Scalar> result;
+    if (set.full()) {
+      result.index = static_cast<Index>(set.index);
+      result.squared_distance = set.best;
+    }
+    return result;
+  }
+
   /// Same as above for an Eigen vector (evaluated into a temporary if it is
   /// an expression).
   template <typename Derived>

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <limits>
+#include <type_traits>
+#include <utility>
 
 #include "iclap/core/types.hpp"
 
@@ -61,6 +63,15 @@ inline Scalar squared_distance(const Scalar* a, const Scalar* b, Index dim) noex
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
 #endif
+
+/// True when `Search` offers the optional warm-started `nearest(query, hint)`.
+template <typename Search, typename Scalar, typename = void>
+struct has_hinted_nearest : std::false_type {};
+template <typename Search, typename Scalar>
+struct has_hinted_nearest<Search, Scalar,
+                          std::void_t<decltype(std::declval<const Search&>().nearest(std::declval<const Scalar*>(),
+                                                                                     Index(0)))>>
+    : std::true_type {};
 
 /// Tie rule shared by all search policies: the smaller distance wins, and on
 /// equal distances the smaller index.

@@ -7,6 +7,11 @@
 ///   Neighbor<Scalar> nearest(const Scalar* query) const;   // thread-safe
 /// with identical distances and the tie rule "smaller index wins", so either
 /// can stand in for the other (and brute force is the kd-tree's oracle).
+/// Optionally a policy also offers
+///   Neighbor<Scalar> nearest(const Scalar* query, Index hint) const;
+/// a warm-started query that returns exactly what nearest(query) returns;
+/// `Icp` passes each test point's previous match as the hint when the policy
+/// has it (`KdTreeSearch` does; brute force gains nothing from a hint).
 #include "iclap/search/brute_force.hpp"
 #include "iclap/search/kdtree.hpp"
 #include "iclap/search/neighbor.hpp"
