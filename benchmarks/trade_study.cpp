@@ -115,6 +115,22 @@ std::vector<Setting> grid() {
                    c->embedding.descriptor_scale = ds;
                    return std::unique_ptr<Classifier>(std::move(c));
                  }});
+  // Contact patches (beyond the paper): every pressed taxel a point.
+  auto patch = [](Index per_touch, double voxel, int max_iterations) {
+    return [=]() -> std::unique_ptr<Classifier> {
+      auto c = std::make_unique<PatchClassifier<float, Planar>>();
+      c->embedding.test_points_per_touch = per_touch;
+      c->embedding.reference_voxel = voxel;
+      configure(*c, max_iterations);
+      return c;
+    };
+  };
+  s.push_back({"contact patch", "patch ICP, 8 pts/touch, 2 mm voxel", "sift", 50, patch(8, 0.002, 50)});
+  s.push_back({"contact patch", "patch ICP, 4 pts/touch, 4 mm voxel", "sift", 50, patch(4, 0.004, 50)});
+  s.push_back({"contact patch", "patch ICP, 4 pts/touch, 4 mm, max-it 10", "sift", 50, patch(4, 0.004, 10)});
+  s.push_back({"contact patch", "patch ICP, 16 pts/touch, 1 mm voxel", "sift", 50, patch(16, 0.001, 50)});
+  s.push_back({"contact patch", "iCLAP patch, 8 pts/touch, 2 mm voxel", "sift", 50,
+               [] { return std::unique_ptr<Classifier>(std::make_unique<IclapPatchClassifier<float, Planar>>()); }});
   s.push_back({"multi-start", "yaw -15,0,15", "sift", 50,
                iclap([](auto& c) { c.yaw_starts_deg = {-15, 0, 15}; })});
   s.push_back({"multi-start", "yaw -30..30 step 15", "sift", 50,
