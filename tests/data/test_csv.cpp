@@ -332,6 +332,8 @@ TEST_CASE("dataset csv: every malformed case of the spec is rejected with its li
   check_rejected(h + ok + "# late\n", 3, "comment line after the header");
   check_rejected(h + "\"a\",0,0,0.1,0.2,0.3,1,2,3,4\n", 2, "contains a quote");
   check_rejected("# only a comment\n", 1, "no header row");
+  // A comment the writer could not write back (a lone carriage return).
+  check_rejected("# fine\n# half\rline\n" + h, 2, "carriage return");
   check_rejected("", 0, "no header row");
 }
 

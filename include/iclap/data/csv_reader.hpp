@@ -121,6 +121,9 @@ inline Dataset parse_dataset_csv(std::string_view text, const std::string& name,
     if (line.front() == '#') {
       line.remove_prefix(1);
       if (!line.empty() && line.front() == ' ') line.remove_prefix(1);
+      // The writer cannot write such a comment back, so it is not accepted.
+      if (line.find('\r') != std::string_view::npos)
+        throw ParseError(name, line_no, "comment contains a carriage return inside the line");
       ds.comments.emplace_back(line);
       continue;
     }
