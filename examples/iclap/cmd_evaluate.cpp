@@ -120,9 +120,15 @@ std::string cache_directory() {
 Dataset builtin_dataset(std::uint64_t seed, int threads, std::string& origin) {
   const std::string dir = cache_directory();
   const std::string path = dir + "/builtin-seed" + std::to_string(seed) + "-" + ICLAP_SIM_FINGERPRINT + ".csv";
+  std::string stale;
   if (fs::exists(path)) {
-    origin = "built-in simulation (cached: " + path + ")";
-    return read_dataset_csv(path);
+    try {
+      Dataset cached = read_dataset_csv(path);
+      origin = "built-in simulation (cached: " + path + ")";
+      return cached;
+    } catch (const std::exception& e) {  // damaged cache: simulate again and replace it
+      stale = std::string("; the cache was unreadable: ") + e.what();
+    }
   }
   SimulationSettings settings;
   settings.threads = static_cast<unsigned>(threads);
@@ -136,7 +142,15 @@ Dataset builtin_dataset(std::uint64_t seed, int threads, std::string& origin) {
   fs::create_directories(dir, ec);
   try {
     write_dataset_csv(path, ds);
-    origin += ", cached: " + path + ")";
+    origin += ", cached: " + path + stale + ")";
+    // Files of the same seed from older simulators can never be used again.
+    const std::string prefix = "builtin-seed" + std::to_string(seed) + "-";
+    for (const auto& entry : fs::directory_iterator(dir, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind(prefix, 0) == 0 && name.size() == prefix.size() + 12 + 4 &&
+          name.compare(name.size() - 4, 4, ".csv") == 0 && entry.path() != fs::path(path))
+        fs::remove(entry.path(), ec);
+    }
   } catch (const IoError& e) {
     origin += ", not cached: " + std::string(e.what()) + ")";
   }
