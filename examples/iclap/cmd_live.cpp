@@ -6,7 +6,6 @@
 // confident (the paper's Discussion, "Haptic exploration"). With
 // --cross-validate it measures that stop rule against fixed touch counts.
 
-#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -37,6 +36,7 @@
 #include "iclap/sim/builtin_objects.hpp"
 #include "iclap/sim/objects.hpp"
 #include "recognition_setup.hpp"
+#include "stop_signals.hpp"
 
 namespace {
 
@@ -119,32 +119,6 @@ const std::string kUsage = std::string(
     "all), 2 bad input, 3 the device was lost (the touches so far are reported),\n"
     "130 Ctrl-C (the sensor's stream is stopped, the touches so far reported).";
 
-// --- Ctrl-C / SIGTERM: ask the loop to stop; a second signal kills. ------
-volatile sig_atomic_t g_stop_signal = 0;
-extern "C" void on_live_stop_signal(int sig) { g_stop_signal = sig; }
-
-class StopSignals {
- public:
-  StopSignals() {
-    struct sigaction sa {};
-    sa.sa_handler = on_live_stop_signal;
-    sigemptyset(&sa.sa_mask);
-    sa.sa_flags = static_cast<int>(SA_RESETHAND);  // no SA_RESTART: a blocking poll returns EINTR
-    sigaction(SIGINT, &sa, &old_int_);
-    sigaction(SIGTERM, &sa, &old_term_);
-  }
-  ~StopSignals() {
-    sigaction(SIGINT, &old_int_, nullptr);
-    sigaction(SIGTERM, &old_term_, nullptr);
-  }
-  StopSignals(const StopSignals&) = delete;
-  StopSignals& operator=(const StopSignals&) = delete;
-  static bool requested() { return g_stop_signal != 0; }
-
- private:
-  struct sigaction old_int_ {};
-  struct sigaction old_term_ {};
-};
 
 std::string fixed3(double v) {
   char buf[32];
@@ -617,7 +591,7 @@ int run_live(const Options& o, const Setup& setup, const std::string& path, cons
   }
   if (StopSignals::requested()) {
     finish("interrupted");
-    return 128 + static_cast<int>(g_stop_signal);
+    return StopSignals::exit_status();
   }
   finish(how);
   return session.touches() > 0 ? kExitOk : kExitFailure;

@@ -4,7 +4,6 @@
 // serial port into a dataset CSV, one flushed row per frame, each paired
 // with the pad pose from a pose source.
 
-#include <signal.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -25,6 +24,7 @@
 #include "iclap/rig/sensor_frame_source.hpp"
 #include "iclap/rig/serial_port.hpp"
 #include "iclap/rig/wts_sensor.hpp"
+#include "stop_signals.hpp"
 
 namespace {
 
@@ -62,32 +62,6 @@ const std::string kUsage = std::string(
     "3 the device was lost (the rows recorded so far are intact), 130 Ctrl-C\n"
     "(the rows recorded so far are intact).";
 
-// --- Ctrl-C / SIGTERM: ask the loop to stop; a second signal kills. ------
-volatile sig_atomic_t g_stop_signal = 0;
-extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
-
-class StopSignals {
- public:
-  StopSignals() {
-    struct sigaction sa {};
-    sa.sa_handler = on_stop_signal;
-    sigemptyset(&sa.sa_mask);
-    sa.sa_flags = static_cast<int>(SA_RESETHAND);  // no SA_RESTART: a blocking poll returns EINTR
-    sigaction(SIGINT, &sa, &old_int_);
-    sigaction(SIGTERM, &sa, &old_term_);
-  }
-  ~StopSignals() {
-    sigaction(SIGINT, &old_int_, nullptr);
-    sigaction(SIGTERM, &old_term_, nullptr);
-  }
-  StopSignals(const StopSignals&) = delete;
-  StopSignals& operator=(const StopSignals&) = delete;
-  static bool requested() { return g_stop_signal != 0; }
-
- private:
-  struct sigaction old_int_ {};
-  struct sigaction old_term_ {};
-};
 
 // One status line on a terminal, refreshed at most 10 times a second.
 class StatusLine {
@@ -196,7 +170,7 @@ int run_record(const Args& args) {
   const rig::Grid grid = *sensor.grid();
   if (StopSignals::requested()) {
     std::fprintf(stderr, "iclap record: interrupted before recording started\n");
-    return 128 + static_cast<int>(g_stop_signal);
+    return StopSignals::exit_status();
   }
 
   // The dataset: create it, or check and repair an existing one.
@@ -335,7 +309,7 @@ int run_record(const Args& args) {
   if (!stopped) std::fprintf(stderr, "iclap record: warning: the sensor did not acknowledge 'stop periodic frames'\n");
   if (StopSignals::requested()) {
     summary("interrupted");
-    return 128 + static_cast<int>(g_stop_signal);
+    return StopSignals::exit_status();
   }
   summary(pose_ended ? "pose replay ended" : "done");
   return kExitOk;
