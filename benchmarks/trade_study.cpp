@@ -236,14 +236,18 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < rows.size(); ++i)
     if (front[i]) on_front.push_back(i);
   std::sort(on_front.begin(), on_front.end(), [&](std::size_t a, std::size_t b) { return rows[a].ms < rows[b].ms; });
-  // Recommendations from the front: accurate = most accurate; fast = fastest
-  // within 2 points of the accurate one's mean rate... or the fastest at all
-  // when none is; balanced = the most accurate at most 3x the fastest's time.
+  // Recommendations from the front: accurate = the most accurate; fast = the
+  // fastest; balanced = the cheapest whose mean rate is at least 95% of the
+  // most accurate one's (the knee: most of the accuracy for a fraction of the
+  // time).
   const std::size_t accurate = on_front.back();
-  std::size_t fast = on_front.front();
-  std::size_t balanced = fast;
+  const std::size_t fast = on_front.front();
+  std::size_t balanced = accurate;
   for (std::size_t i : on_front)
-    if (rows[i].ms <= 3 * rows[fast].ms) balanced = i;
+    if (rows[i].accuracy() >= 0.95 * rows[accurate].accuracy()) {
+      balanced = i;
+      break;
+    }
   std::printf("\nPareto front (mean rate over 5/10/20 touches against time):\n");
   for (std::size_t i : on_front)
     std::printf("  %-20s %-44s mean %5.1f%%  %8.3f ms\n", rows[i].setting->group.c_str(), rows[i].setting->name.c_str(),

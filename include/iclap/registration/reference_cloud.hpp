@@ -45,7 +45,7 @@ class ReferenceCloud {
   template <typename Derived>
   explicit ReferenceCloud(const Eigen::MatrixBase<Derived>& points,
                           const typename Search::Settings& search_settings = {})
-      : ReferenceCloud(points, Vector::Ones(points.rows()), search_settings) {}
+      : ReferenceCloud(points, Vector::Ones(Dim > 0 ? Index(Dim) : points.rows()), search_settings) {}
 
   /// Weighted metric. Weights must be finite and > 0, one per coordinate
   /// (errors name `weights`).
