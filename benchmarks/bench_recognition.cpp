@@ -16,6 +16,7 @@
 #include "iclap/sim/builtin_objects.hpp"
 #include "iclap/sim/simulator.hpp"
 #include "iclap/tactile/tactile_sift.hpp"
+#include "held_out.hpp"
 
 namespace {
 
@@ -35,29 +36,12 @@ struct Scene {
     settings.threads = 0;
     const Dataset ds = simulate_dataset(builtin_objects(), settings, 1);
     table = make_touch_table(ds, TactileSift<float>{});
-    std::vector<Index> train;
-    for (Index i = 0; i < table.size(); ++i)
-      if (table.exploration[static_cast<std::size_t>(i)] != 0) train.push_back(i);
-    Eigen::MatrixXf f(table.touches.features.rows(), static_cast<Index>(train.size()));
-    for (std::size_t j = 0; j < train.size(); ++j) f.col(static_cast<Index>(j)) = table.touches.features.col(train[j]);
-    KMeansQuantizer<float> q;
-    q.settings.k = k;
-    q.settings.seed = 1;
-    q.fit(f);
-    all = table.touches;
-    all.words = assign_words(q, table.touches.features);
-    for (Index o = 0; o < static_cast<Index>(table.objects.size()); ++o) {
-      std::vector<Index> tr, te;
-      for (Index i = 0; i < table.size(); ++i) {
-        if (table.object[static_cast<std::size_t>(i)] != o) continue;
-        (table.exploration[static_cast<std::size_t>(i)] == 0 ? te : tr).push_back(i);
-      }
-      objects.push_back(select_touches(all, tr));
+    bench::HeldOut split = bench::hold_out_exploration_zero(table, k);
+    all = std::move(split.all);
+    objects = std::move(split.references);
+    for (Index o = 0; o < static_cast<Index>(objects.size()); ++o) {
       Rng rng = Rng::derive(1, static_cast<std::uint64_t>(o));
-      for (std::size_t i = 0; i < 20 && i < te.size(); ++i)
-        std::swap(te[i], te[i + static_cast<std::size_t>(rng.below(te.size() - i))]);
-      te.resize(std::min<std::size_t>(20, te.size()));
-      tests.push_back(select_touches(all, te));
+      tests.push_back(select_touches(all, bench::random_subset(split.held_out[static_cast<std::size_t>(o)], 20, rng)));
     }
   }
 };

@@ -22,6 +22,7 @@
 #include "iclap/sim/builtin_objects.hpp"
 #include "iclap/sim/simulator.hpp"
 #include "iclap/tactile/tactile_sift.hpp"
+#include "held_out.hpp"
 
 namespace {
 
@@ -96,37 +97,17 @@ int main(int argc, char** argv) {
     sim.threads = 0;
     const Dataset ds = simulate_dataset(objects(n), sim, 1);
     const TouchTable table = make_touch_table(ds, TactileSift<float>{});
-    std::vector<Index> train;
-    for (Index i = 0; i < table.size(); ++i)
-      if (table.exploration[static_cast<std::size_t>(i)] != 0) train.push_back(i);
-    Eigen::MatrixXf f(table.touches.features.rows(), static_cast<Index>(train.size()));
-    for (std::size_t j = 0; j < train.size(); ++j) f.col(static_cast<Index>(j)) = table.touches.features.col(train[j]);
-    KMeansQuantizer<float> q;
-    q.settings.k = 50;
-    q.settings.seed = 1;
-    q.fit(f);
-    TouchSet all = table.touches;
-    all.words = assign_words(q, table.touches.features);
-    std::vector<TouchSet> refs;
+    const bench::HeldOut split = bench::hold_out_exploration_zero(table, 50);
     std::vector<std::pair<Index, TouchSet>> tests;
     for (Index o = 0; o < static_cast<Index>(table.objects.size()); ++o) {
-      std::vector<Index> tr, te;
-      for (Index i = 0; i < table.size(); ++i) {
-        if (table.object[static_cast<std::size_t>(i)] != o) continue;
-        (table.exploration[static_cast<std::size_t>(i)] == 0 ? te : tr).push_back(i);
-      }
-      refs.push_back(select_touches(all, tr));
+      const auto& te = split.held_out[static_cast<std::size_t>(o)];
       for (std::uint64_t r = 0; r < 2 && !te.empty(); ++r) {
         Rng rng = Rng::derive(7, static_cast<std::uint64_t>(o), r);
-        std::vector<Index> p = te;
-        for (std::size_t i = 0; i < 20 && i < p.size(); ++i)
-          std::swap(p[i], p[i + static_cast<std::size_t>(rng.below(p.size() - i))]);
-        p.resize(std::min<std::size_t>(20, p.size()));
-        tests.emplace_back(o, select_touches(all, p));
+        tests.emplace_back(o, select_touches(split.all, bench::random_subset(te, 20, rng)));
       }
     }
     IclapClassifier<float, Planar> c;
-    c.fit(refs, q.size());
+    c.fit(split.references, split.words);
     std::vector<Measure> row;
     for (const PruningSettings& p : schedules) {
       Measure m;
