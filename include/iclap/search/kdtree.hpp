@@ -122,17 +122,7 @@ class KdTreeSearch {
   }
 
   /// The closest point to `query` (length `dim()`), ties to the smaller index.
-  Neighbor<Scalar> nearest(const Scalar* query) const {
-    Neighbor<Scalar> result;
-    if (!impl_) return result;
-    detail::NearestTieAwareResultSet<Scalar> set;
-    impl_->tree.findNeighbors(set, query, nanoflann::SearchParams());
-    if (set.full()) {
-      result.index = static_cast<Index>(set.index);
-      result.squared_distance = set.best;
-    }
-    return result;
-  }
+  Neighbor<Scalar> nearest(const Scalar* query) const { return nearest(query, Index(-1)); }
 
   /// Warm-started query: the same answer as `nearest(query)` (same distance,
   /// same tie rule), but the search starts with `hint`'s distance as its bound,
@@ -140,12 +130,13 @@ class KdTreeSearch {
   /// point's previous match, which after a small motion is at or near the
   /// nearest point. A hint outside [0, size()) means no hint.
   Neighbor<Scalar> nearest(const Scalar* query, Index hint) const {
-    if (!impl_ || hint < 0 || hint >= impl_->points.cols()) return nearest(query);
-    detail::NearestTieAwareResultSet<Scalar> set;
-    set.addPoint(detail::squared_distance<Dim>(query, impl_->points.col(hint).data(), impl_->points.rows()),
-                 static_cast<std::uint32_t>(hint));
-    impl_->tree.findNeighbors(set, query, nanoflann::SearchParams());
     Neighbor<Scalar> result;
+    if (!impl_) return result;
+    detail::NearestTieAwareResultSet<Scalar> set;
+    if (hint >= 0 && hint < impl_->points.cols())
+      set.addPoint(detail::squared_distance<Dim>(query, impl_->points.col(hint).data(), impl_->points.rows()),
+                   static_cast<std::uint32_t>(hint));
+    impl_->tree.findNeighbors(set, query, nanoflann::SearchParams());
     if (set.full()) {
       result.index = static_cast<Index>(set.index);
       result.squared_distance = set.best;
