@@ -105,6 +105,61 @@ TEST_CASE("the reflection guard picks the best proper rotation") {
   CHECK(R.determinant() == doctest::Approx(1.0));
 }
 
+TEST_CASE("the 3x3 closed form agrees with the SVD, or declines") {
+  // The reference: the SVD route of proper_rotation for a 3x3 block.
+  auto by_svd = [](const Eigen::Matrix3d& H) {
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d V = svd.matrixV();
+    Eigen::Matrix3d R = V * svd.matrixU().transpose();
+    if (R.determinant() < 0) {
+      V.col(2) *= -1.0;
+      R = V * svd.matrixU().transpose();
+    }
+    return R;
+  };
+  Rng rng(77);
+  int accepted = 0, total = 0;
+  // Condition numbers from 2 to 1e8, both signs of det H, scales 1e-12..1e12
+  // (condition 1 with det H < 0 is a mirror, declined below).
+  for (double condition : {2.0, 10.0, 1e3, 1e5, 1e8}) {
+    for (double scale : {1e-12, 1.0, 1e12}) {
+      for (int k = 0; k < 40; ++k) {
+        CAPTURE(condition);
+        CAPTURE(scale);
+        const Eigen::Matrix3d U = random_rotation(3, 3.0, rng), V = random_rotation(3, 3.0, rng);
+        Eigen::Vector3d s(1.0, std::pow(condition, -0.5 - 0.1 * (rng.uniform() - 0.5)), 1.0 / condition);
+        if (k % 2 == 1) s(2) = -s(2);  // det H < 0: the reflection guard's case
+        const Eigen::Matrix3d H = scale * U * s.asDiagonal() * V.transpose();
+        Eigen::Matrix3d R;
+        bool degenerate = true;
+        ++total;
+        if (!detail::polar_rotation3<double>(H, 1e-12, R, degenerate)) {
+          // Declining is allowed only where the closed form is inaccurate.
+          CHECK(condition >= 1e3);
+          continue;
+        }
+        ++accepted;
+        CHECK(std::abs(R.determinant() - 1.0) < 1e-14);
+        CHECK(difference(R.transpose() * R, Eigen::Matrix3d::Identity()) < 1e-14);
+        CHECK(difference(R, by_svd(H)) < 1e-15 * condition * 100);
+        CHECK(degenerate == false);
+      }
+    }
+  }
+  // Well-conditioned cases (two of the five conditions) all take the fast path.
+  CHECK(accepted >= total * 2 / 5);
+  // Rank-deficient and non-finite H: declined, the SVD decides.
+  Eigen::Matrix3d R;
+  bool degenerate = false;
+  CHECK_FALSE(detail::polar_rotation3<double>(Eigen::Vector3d(1, 1, 0).asDiagonal(), 1e-12, R, degenerate));
+  CHECK_FALSE(detail::polar_rotation3<double>(Eigen::Matrix3d::Zero(), 1e-12, R, degenerate));
+  Eigen::Matrix3d bad = Eigen::Matrix3d::Identity();
+  bad(1, 2) = std::numeric_limits<double>::quiet_NaN();
+  CHECK_FALSE(detail::polar_rotation3<double>(bad, 1e-12, R, degenerate));
+  // A mirror (all singular values equal, det < 0): the optimum is not unique.
+  CHECK_FALSE(detail::polar_rotation3<double>(Eigen::Vector3d(1, 1, -1).asDiagonal(), 1e-12, R, degenerate));
+}
+
 TEST_CASE_TEMPLATE("degenerate geometry: finite output, no NaN, flag set", S, float, double) {
   Eigen::MatrixXd identical = Eigen::MatrixXd::Constant(3, 10, 0.25);
   Eigen::MatrixXd collinear(3, 10), coplanar(3, 40);
