@@ -160,6 +160,31 @@ TEST_CASE("the 3x3 closed form agrees with the SVD, or declines") {
   CHECK_FALSE(detail::polar_rotation3<double>(Eigen::Vector3d(1, 1, -1).asDiagonal(), 1e-12, R, degenerate));
 }
 
+TEST_CASE("the planar model's closed-form singular values flag rank deficiency like the SVD") {
+  Rng rng(78);
+  const Eigen::Vector2d zero = Eigen::Vector2d::Zero();
+  for (int k = 0; k < 400; ++k) {
+    CAPTURE(k);
+    Eigen::Matrix2d H;
+    for (Index i = 0; i < 4; ++i) H.data()[i] = rng.uniform() - 0.5;
+    if (k % 4 == 1) H.col(1) = H.col(0) * (rng.uniform() - 0.5);  // rank 1 (collinear points)
+    if (k % 4 == 2) H.col(1) = H.col(0) * 1e-15 + H.col(1) * 1e-17;  // numerically rank 1
+    if (k % 4 == 3) H *= std::pow(10.0, 24 * rng.uniform() - 12);    // any scale
+    const Eigen::JacobiSVD<Eigen::Matrix2d> svd(H);
+    for (double tol : {1e-13, 1e-4}) {
+      const bool expected = detail::rank_deficient<double, 2>(svd.singularValues(), tol);
+      const auto e = Planar::estimate<double, 2>(zero, zero, H, tol);
+      const double s_min = svd.singularValues()(1), s_max = svd.singularValues()(0);
+      // Away from the threshold itself, the two must agree.
+      if (std::abs(s_min - tol * s_max) > 1e-3 * tol * s_max) CHECK(e.degenerate == expected);
+      CHECK(std::abs(e.R.determinant() - 1.0) < 1e-14);
+    }
+  }
+  const auto zero_h = Planar::estimate<double, 2>(zero, zero, Eigen::Matrix2d::Zero(), 1e-13);
+  CHECK(zero_h.degenerate);
+  CHECK(zero_h.R.allFinite());
+}
+
 TEST_CASE_TEMPLATE("degenerate geometry: finite output, no NaN, flag set", S, float, double) {
   Eigen::MatrixXd identical = Eigen::MatrixXd::Constant(3, 10, 0.25);
   Eigen::MatrixXd collinear(3, 10), coplanar(3, 40);

@@ -3,8 +3,6 @@
 
 #include <cmath>
 
-#include <Eigen/SVD>
-
 #include "iclap/core/error.hpp"
 #include "iclap/registration/models/procrustes.hpp"
 
@@ -36,8 +34,12 @@ struct Planar {
     const Acc c = std::cos(angle), s = std::sin(angle);
     e.R << c, -s, s, c;
     e.t = cq - e.R * cp;
-    const Eigen::JacobiSVD<SquareMatrix<Acc, 2>> svd(H);
-    e.degenerate = detail::rank_deficient<Acc, 2>(svd.singularValues(), rank_tol);
+    // Singular values of the 2x2 H in closed form (H = rotation part +
+    // reflection part): s = q + r and |q - r|, q the norm of the rotation
+    // part, r of the reflection part. No cancellation: both are norms.
+    const Acc q = std::hypot(H(0, 0) + H(1, 1), H(1, 0) - H(0, 1)) / 2;
+    const Acc r = std::hypot(H(0, 0) - H(1, 1), H(1, 0) + H(0, 1)) / 2;
+    e.degenerate = detail::rank_deficient<Acc, 2>(Point<Acc, 2>(q + r, std::abs(q - r)), rank_tol);
     return e;
   }
 };
