@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <limits>
-#include <vector>
 
 #include "iclap/core/random.hpp"
 #include "iclap/search/search.hpp"
@@ -93,64 +92,6 @@ TEST_CASE_TEMPLATE("a warm-start hint never changes the answer", T, float, doubl
   const Eigen::Matrix<T, 2, 1> up(0, 1);
   CHECK(tree.nearest(up.data(), 2).index == 1);
   CHECK(tree.nearest(up.data(), 3).index == 1);
-}
-
-TEST_CASE_TEMPLATE("a tracked query gives the same answers as a fresh search, mostly without searching", T, float,
-                   double) {
-  static_assert(detail::has_tracked_nearest<KdTreeSearch<T, 3>, T>::value);
-  static_assert(!detail::has_tracked_nearest<BruteForceSearch<T, 3>, T>::value);
-  for (Index dim : {2, 3, 4, 8}) {
-    CAPTURE(dim);
-    const auto pts = random_cloud<T, Eigen::Dynamic>(dim, 500, 31 + static_cast<std::uint64_t>(dim));
-    const KdTreeSearch<T> tree(pts);
-    const BruteForceSearch<T> brute(pts);
-    // Random walks whose steps shrink like an ICP's (large, then tiny), and
-    // walks that return exactly onto points and onto their midpoints.
-    Rng rng(32 + static_cast<std::uint64_t>(dim));
-    long long searches = 0, calls = 0;
-    for (int walk = 0; walk < 30; ++walk) {
-      Eigen::Matrix<T, Eigen::Dynamic, 1> q = pts.col(walk * 13 % 500);
-      for (Index k = 0; k < dim; ++k) q(k) += static_cast<T>(0.2 * (rng.uniform() - 0.5));
-      std::vector<T> anchor(static_cast<std::size_t>(dim));
-      TrackedNeighbor<T> track;
-      for (int step = 0; step < 40; ++step) {
-        const double size = 0.1 * std::pow(0.6, step);
-        for (Index k = 0; k < dim; ++k) q(k) += static_cast<T>(size * (rng.uniform() - 0.5));
-        if (step == 20) q = pts.col(walk);                                  // exactly on a point
-        if (step == 30) q = (pts.col(walk) + pts.col(walk + 1)) / T(2);     // equidistant from two
-        const auto expected = brute.nearest(q.data());
-        const auto got = tree.nearest_tracked(q.data(), anchor.data(), track);
-        ++calls;
-        CHECK(got.index == expected.index);
-        CHECK(got.squared_distance == expected.squared_distance);
-      }
-      searches += track.searches;
-    }
-    // The point of tracking: most small moves need no search.
-    CHECK(searches < calls / 2);
-  }
-  // Exact ties: two identical points; a query that stays on them never gets
-  // a reach and keeps the smaller index.
-  Cloud<T, 2> dup(2, 3);
-  dup << 0, 5, 0,  //
-      1, 5, 1;
-  const KdTreeSearch<T, 2> tree(dup, {1});
-  TrackedNeighbor<T> track;
-  T anchor[2];
-  const Eigen::Matrix<T, 2, 1> q(0, 1);
-  for (int k = 0; k < 3; ++k) CHECK(tree.nearest_tracked(q.data(), anchor, track).index == 0);
-  CHECK(track.reach <= 0);
-  CHECK(track.searches == 3);
-  // One point: always the answer, searched once.
-  const KdTreeSearch<T, 2> single(Cloud<T, 2>(Cloud<T, 2>::Zero(2, 1)));
-  TrackedNeighbor<T> one;
-  for (int k = 0; k < 3; ++k) {
-    const Eigen::Matrix<T, 2, 1> p(static_cast<T>(k), static_cast<T>(-k));
-    const auto got = single.nearest_tracked(p.data(), anchor, one);
-    CHECK(got.index == 0);
-    CHECK(got.squared_distance == static_cast<T>(2 * k * k));
-  }
-  CHECK(one.searches == 1);
 }
 
 TEST_CASE("far clusters and large offsets") {

@@ -28,14 +28,8 @@ template <typename Scalar, int Dim>
 struct IcpWorkspace {
   Cloud<Scalar, Dim> test_points;
   std::vector<Correspondence<Scalar>> pairs;
-  /// Each test point's previous match, the warm start of its next query
-  /// (search policies with a hinted `nearest(query, hint)`).
+  /// Each test point's previous match, the warm start of its next query.
   std::vector<Index> hints;
-  /// Each test point's tracked query and its anchor (`dim` coordinates per
-  /// point), for search policies with `nearest_tracked` (the kd-tree): late
-  /// iterations move the points so little that most need no search at all.
-  std::vector<TrackedNeighbor<Scalar>> tracks;
-  std::vector<Scalar> anchors;
 };
 
 /// Iterative Closest (Labeled) Point in `Dim` dimensions (paper, Section III).
@@ -146,8 +140,7 @@ class Icp {
   template <typename Search>
   Acc correspond(const Cloud<Scalar, Dim>& P, const BlockMatrix& R, const BlockVector& t, const Search& search,
                  Point<Scalar, Dim>& y, std::vector<Correspondence<Scalar>>& pairs, std::vector<Index>& hints,
-                 std::vector<TrackedNeighbor<Scalar>>& tracks, std::vector<Scalar>& anchors, Index b,
-                 Index& kept) const {
+                 Index b, Index& kept) const {
     const Index n = P.cols(), d = P.rows();
     Acc all = 0;  // E over every pair, summed in test order
     for (Index i = 0; i < n; ++i) {
@@ -162,18 +155,11 @@ class Icp {
         if (d > b) y.tail(d - b) = P.col(i).tail(d - b);
       }
       Neighbor<Scalar> nb;
-      if constexpr (detail::has_tracked_nearest<Search, Scalar>::value) {
-        (void)hints;
-        nb = search.nearest_tracked(y.data(), anchors.data() + i * d, tracks[static_cast<std::size_t>(i)]);
-      } else if constexpr (detail::has_hinted_nearest<Search, Scalar>::value) {
-        (void)tracks;
-        (void)anchors;
+      if constexpr (detail::has_hinted_nearest<Search, Scalar>::value) {
         nb = search.nearest(y.data(), hints[static_cast<std::size_t>(i)]);  // same answer, found sooner
         hints[static_cast<std::size_t>(i)] = nb.index;
       } else {
         (void)hints;
-        (void)tracks;
-        (void)anchors;
         nb = search.nearest(y.data());
       }
       pairs[static_cast<std::size_t>(i)] = {i, nb.index, nb.squared_distance};
@@ -258,12 +244,7 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
       ws.test_points.col(j) = w.cwiseProduct(tmp).template cast<Scalar>();
     }
     ws.pairs.resize(static_cast<std::size_t>(n));
-    if constexpr (detail::has_tracked_nearest<Search, Scalar>::value) {
-      ws.tracks.assign(static_cast<std::size_t>(n), TrackedNeighbor<Scalar>());
-      ws.anchors.resize(static_cast<std::size_t>(n * d));
-    } else {
-      ws.hints.assign(static_cast<std::size_t>(n), Index(-1));
-    }
+    ws.hints.assign(static_cast<std::size_t>(n), Index(-1));
 
     // Block motion in working coordinates.
     R_acc_ = AccBlockMatrix::Identity(b_, b_);
@@ -363,8 +344,8 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
   using AccBlockVector = Point<Acc, B>;
 
   void match_and_check() {
-    error_ = icp_->correspond(ws_->test_points, R_, t_, reference_->search(), y_, ws_->pairs, ws_->hints,
-                              ws_->tracks, ws_->anchors, b_, kept_);
+    error_ = icp_->correspond(ws_->test_points, R_, t_, reference_->search(), y_, ws_->pairs, ws_->hints, b_,
+                              kept_);
     if (kept_ == 0) {
       done_ = true;
       reason_ = StopReason::NoCorrespondences;

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -76,44 +75,6 @@ struct NearestTieAwareResultSet {
   Scalar worstDist() const { return bound; }
 };
 
-/// The two nearest points, the first with the shared tie rule; the second
-/// only needs its distance (and serves as a warm start). Offered points are
-/// bounded by the second distance, inflated as above so that every point at
-/// or below it is seen. A point offered twice (a hint met again in the tree)
-/// counts once.
-template <typename Scalar>
-struct TwoNearestTieAwareResultSet {
-  using DistanceType = Scalar;
-  using IndexType = std::uint32_t;
-  static constexpr IndexType none = std::numeric_limits<IndexType>::max();
-  Scalar best = std::numeric_limits<Scalar>::infinity();
-  Scalar second = std::numeric_limits<Scalar>::infinity();
-  Scalar bound = std::numeric_limits<Scalar>::infinity();
-  IndexType index = none, second_index = none;
-
-  bool full() const { return second_index != none; }
-  bool addPoint(Scalar d, IndexType i) {
-    if (i == index || i == second_index) return true;
-    if (d < best || (d == best && i < index)) {
-      second = best;
-      second_index = index;
-      best = d;
-      index = i;
-    } else if (d < second || (d == second && i < second_index)) {
-      second = d;
-      second_index = i;
-    } else {
-      return true;
-    }
-    if (second_index != none) {
-      constexpr Scalar slack = Scalar(1) + Scalar(64) * std::numeric_limits<Scalar>::epsilon();
-      bound = second * slack + std::numeric_limits<Scalar>::denorm_min();
-    }
-    return true;
-  }
-  Scalar worstDist() const { return bound; }
-};
-
 }  // namespace detail
 
 /// Nearest-neighbour search through a nanoflann kd-tree (nanoflann 1.4.3),
@@ -178,59 +139,6 @@ class KdTreeSearch {
     impl_->tree.findNeighbors(set, query, nanoflann::SearchParams());
     if (set.full()) {
       result.index = static_cast<Index>(set.index);
-      result.squared_distance = set.best;
-    }
-    return result;
-  }
-
-  /// Tracked query for a point that moves a little between calls (an ICP
-  /// test point): the same answer as `nearest(query)` (same point, same
-  /// distance, same tie rule), found without searching while the query stays
-  /// within `tracker.reach` of `anchor`, its position at the last search.
-  ///
-  /// Why that is exact: at the anchor the nearest point is at d1 and every
-  /// other point at d2 or more; after a move by delta the nearest is within
-  /// d1 + delta and every other point beyond d2 - delta, so while
-  /// 2 delta < d2 - d1 the nearest cannot change. The reach is (d2 - d1) / 2
-  /// less a margin for the rounding of the computed distances, and ties
-  /// (d1 = d2) give no reach. Otherwise a search for the two nearest points
-  /// runs, warm-started from the previous two, and `anchor` (length `dim()`,
-  /// owned by the caller) is set to `query`.
-  Neighbor<Scalar> nearest_tracked(const Scalar* query, Scalar* anchor, TrackedNeighbor<Scalar>& tracker) const {
-    Neighbor<Scalar> result;
-    if (!impl_) return result;
-    const CloudType& pts = impl_->points;
-    const Index d = pts.rows(), n = pts.cols();
-    if (tracker.index >= 0 && tracker.index < n && tracker.reach > 0) {
-      const Scalar moved = detail::squared_distance<Dim>(query, anchor, d);
-      if (moved < tracker.reach * tracker.reach) {
-        result.index = tracker.index;
-        result.squared_distance = detail::squared_distance<Dim>(query, pts.col(tracker.index).data(), d);
-        return result;
-      }
-    }
-    detail::TwoNearestTieAwareResultSet<Scalar> set;
-    for (const Index hint : {tracker.index, tracker.second})
-      if (hint >= 0 && hint < n)
-        set.addPoint(detail::squared_distance<Dim>(query, pts.col(hint).data(), d), static_cast<std::uint32_t>(hint));
-    impl_->tree.findNeighbors(set, query, nanoflann::SearchParams());
-    ++tracker.searches;
-    for (Index k = 0; k < d; ++k) anchor[k] = query[k];
-    tracker.index = set.index == set.none ? Index(-1) : static_cast<Index>(set.index);
-    tracker.second = set.full() ? static_cast<Index>(set.second_index) : Index(-1);
-    if (!set.full()) {
-      // One point: it is the nearest wherever the query goes.
-      tracker.reach = tracker.index >= 0 ? std::numeric_limits<Scalar>::infinity() : Scalar(-1);
-    } else {
-      // Each computed distance is within a relative (d + 4) eps of the true
-      // one (sum of d squares, then the square root); a margin of twice
-      // that on every term keeps the test on the safe side.
-      const Scalar d1 = std::sqrt(set.best), d2 = std::sqrt(set.second);
-      const Scalar margin = Scalar(8 * (d + 4)) * std::numeric_limits<Scalar>::epsilon();
-      tracker.reach = ((d2 - d1) - margin * (d1 + d2)) / (Scalar(2) * (Scalar(1) + margin));
-    }
-    if (tracker.index >= 0) {
-      result.index = tracker.index;
       result.squared_distance = set.best;
     }
     return result;

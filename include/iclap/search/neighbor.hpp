@@ -18,23 +18,6 @@ struct Neighbor {
   Scalar squared_distance = std::numeric_limits<Scalar>::infinity();
 };
 
-/// What a tracked query (`KdTreeSearch::nearest_tracked`) remembers about one
-/// query point between calls: the point's position at its last full search
-/// (the anchor, stored by the caller), its nearest and second-nearest points
-/// there, and how far it may move from the anchor with the nearest provably
-/// unchanged. Start from a default-constructed value (no memory).
-template <typename Scalar>
-struct TrackedNeighbor {
-  Index index = -1;   ///< nearest point at the anchor, -1 before the first search
-  Index second = -1;  ///< second nearest at the anchor (warm start of the next search)
-  /// Distance from the anchor within which `index` is still the unique
-  /// nearest, less a rounding margin; negative: always search.
-  Scalar reach = -1;
-  /// Full searches made through this tracker (the rest were answered by the
-  /// reach test alone).
-  long long searches = 0;
-};
-
 namespace detail {
 
 /// The one squared-distance kernel every search policy uses, so that the
@@ -89,16 +72,6 @@ struct has_hinted_nearest<Search, Scalar,
                           std::void_t<decltype(std::declval<const Search&>().nearest(std::declval<const Scalar*>(),
                                                                                      Index(0)))>>
     : std::true_type {};
-
-/// True when `Search` offers the optional tracked query
-/// `nearest_tracked(query, anchor, tracker)`.
-template <typename Search, typename Scalar, typename = void>
-struct has_tracked_nearest : std::false_type {};
-template <typename Search, typename Scalar>
-struct has_tracked_nearest<Search, Scalar,
-                           std::void_t<decltype(std::declval<const Search&>().nearest_tracked(
-                               std::declval<const Scalar*>(), std::declval<Scalar*>(),
-                               std::declval<TrackedNeighbor<Scalar>&>()))>> : std::true_type {};
 
 /// Tie rule shared by all search policies: the smaller distance wins, and on
 /// equal distances the smaller index.
