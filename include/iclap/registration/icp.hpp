@@ -51,7 +51,8 @@ struct IcpWorkspace {
 /// `ReferenceCloud` can serve many threads (give each its own workspace).
 ///
 /// Complexity per iteration: n nearest-neighbour queries (O(n log m) with the
-/// kd-tree), O(n B^2) for the covariance and one B x B SVD, B the number of
+/// kd-tree), O(n B^2) for the covariance and one B x B SVD (closed forms for
+/// B = 2 and, when well conditioned, B = 3), B the number of
 /// moved coordinates.
 template <typename Scalar, int Dim, typename Model = FullRigid,
           typename Rejector = DistanceRejector<Scalar>, typename Termination = PaperTermination<Scalar>>
