@@ -6,7 +6,8 @@
 // stretched per axis (0.75-1.35, seeded), so the set gets harder as it grows.
 // References from explorations 1-4, tests from exploration 0 (2 draws per
 // object), single-threaded. Reports the time per recognition, its ratio to
-// the 20-object cost without pruning, and the accuracy lost to pruning.
+// the 20-object cost without pruning, the accuracy lost to pruning and how
+// often a schedule's decision differs from the full registration's.
 //
 //   build/release/benchmarks/scaling_study [--sizes 20,100,500] [--out DIR]
 
@@ -50,6 +51,7 @@ struct Measure {
   double ms = 0;
   double rate = 0;
   double registrations = 0;
+  double same = 0;  // fraction of decisions equal to those of every registration run to the end
 };
 
 }  // namespace
@@ -77,7 +79,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  std::vector<PruningSettings> schedules(5);
+  std::vector<PruningSettings> schedules(7);
   schedules[0].schedule = PruningSettings::Schedule::None;
   schedules[1].schedule = PruningSettings::Schedule::Bound;
   for (std::size_t i = 2; i < 5; ++i) schedules[i].schedule = PruningSettings::Schedule::Halving;
@@ -87,11 +89,15 @@ int main(int argc, char** argv) {
   schedules[4].round_iterations = 3;
   schedules[4].keep_fraction = 0.2;
   schedules[4].finalists = 4;
+  schedules[5].schedule = schedules[6].schedule = PruningSettings::Schedule::Bound;
+  schedules[5].shortlist = 20;
+  schedules[6].shortlist = 50;
   const char* names[] = {"every registration", "lower-bound pruning (exact)", "halving 2 it, keep 1/2, 2 final",
-                         "halving 1 it, keep 1/4, 3 final", "halving 3 it, keep 1/5, 4 final"};
+                         "halving 1 it, keep 1/4, 3 final", "halving 3 it, keep 1/5, 4 final",
+                         "bound, shortlist 20", "bound, shortlist 50"};
   std::vector<std::vector<Measure>> results;
-  std::printf("iCLAP decisions of 20-touch tests, 1 thread\n%8s  %-33s %10s %12s %14s %8s %10s\n", "objects",
-              "schedule", "ms/recog.", "x 20 objects", "registrations", "rate", "rate lost");
+  std::printf("iCLAP decisions of 20-touch tests, 1 thread\n%8s  %-33s %10s %12s %14s %8s %10s %14s\n", "objects",
+              "schedule", "ms/recog.", "x 20 objects", "registrations", "rate", "rate lost", "same decision");
   for (std::size_t n : sizes) {
     SimulationSettings sim;
     sim.threads = 0;
@@ -109,36 +115,43 @@ int main(int argc, char** argv) {
     IclapClassifier<float, Planar> c;
     c.fit(split.references, split.words);
     std::vector<Measure> row;
+    std::vector<Index> reference_decisions;
     for (const PruningSettings& p : schedules) {
       Measure m;
-      std::size_t correct = 0;
+      std::size_t correct = 0, same = 0;
+      std::vector<Index> decisions;
       const auto t0 = std::chrono::steady_clock::now();
       for (const auto& [truth, test] : tests) {
         const PrunedDecision d = c.decide(test, p);
         correct += d.object == truth;
+        decisions.push_back(d.object);
         m.registrations += static_cast<double>(d.completed);
       }
       m.ms = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() /
              static_cast<double>(tests.size());
       m.rate = static_cast<double>(correct) / static_cast<double>(tests.size());
       m.registrations /= static_cast<double>(tests.size());
+      if (reference_decisions.empty()) reference_decisions = decisions;
+      for (std::size_t t = 0; t < decisions.size(); ++t) same += decisions[t] == reference_decisions[t];
+      m.same = static_cast<double>(same) / static_cast<double>(tests.size());
       row.push_back(m);
     }
     results.push_back(row);
     for (std::size_t s = 0; s < row.size(); ++s)
-      std::printf("%8zu  %-33s %10.3f %12.2f %14.1f %7.1f%% %9.1f\n", n, names[s], row[s].ms,
+      std::printf("%8zu  %-33s %10.3f %12.2f %14.1f %7.1f%% %9.1f %13.1f%%\n", n, names[s], row[s].ms,
                   row[s].ms / results.front()[0].ms, row[s].registrations, 100 * row[s].rate,
-                  100 * (row[0].rate - row[s].rate));
+                  100 * (row[0].rate - row[s].rate), 100 * row[s].same);
     std::fflush(stdout);
   }
   std::filesystem::create_directories(out);
   AtomicFileWriter w(out + "/scaling_study.csv");
-  w.stream() << "objects,schedule,ms_per_recognition,ratio_to_first_size_full,registrations_completed,rate\n";
+  w.stream() << "objects,schedule,ms_per_recognition,ratio_to_first_size_full,registrations_completed,rate,"
+                "same_decision\n";
   for (std::size_t i = 0; i < sizes.size(); ++i)
     for (std::size_t s = 0; s < results[i].size(); ++s)
       w.stream() << sizes[i] << "," << names[s] << "," << results[i][s].ms << ","
                  << results[i][s].ms / results.front()[0].ms << "," << results[i][s].registrations << ","
-                 << results[i][s].rate << "\n";
+                 << results[i][s].rate << "," << results[i][s].same << "\n";
   w.commit();
   std::printf("wrote %s/scaling_study.csv\n", out.c_str());
   return 0;
