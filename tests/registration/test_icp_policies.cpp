@@ -336,3 +336,51 @@ TEST_CASE("a resumable registration matches align and never increases the error"
   CHECK(a.result().error == direct.error);
   CHECK(b.result().error == direct.error);
 }
+
+namespace {
+/// Brute force that counts its queries (a search policy of the user's kind).
+struct CountingSearch : BruteForceSearch<double, 3> {
+  using BruteForceSearch<double, 3>::BruteForceSearch;
+  static inline long long queries = 0;
+  Neighbor<double> nearest(const double* q) const noexcept {
+    ++queries;
+    return BruteForceSearch<double, 3>::nearest(q);
+  }
+};
+}  // namespace
+
+TEST_CASE("a fixed point of the matching ends the search, not the iteration count") {
+  // Once the pairs matched under a transform are those it was estimated
+  // from, the next update reproduces it; that iteration is counted and the
+  // rules checked, but nobody searches again.
+  const Eigen::MatrixXd model = random_points(3, 200, 61);
+  Eigen::VectorXd t;
+  const Eigen::MatrixXd R = random_motion<FullRigid>(3, 0.1, 0.05, 62, t);
+  const Eigen::MatrixXd test = R.transpose() * (model.leftCols(60).colwise() - t);
+  const ReferenceCloud<double, 3, CountingSearch> ref(model);
+  Icp<double, 3> icp;
+  CountingSearch::queries = 0;
+  const auto converged = icp.align(ref, test);
+  REQUIRE(converged.stop_reason == StopReason::RelativeTolerance);
+  // One matching before the first update and one after each update but the
+  // last, which met the fixed point.
+  CHECK(CountingSearch::queries == 60LL * converged.iterations);
+  // The same registration without the relative rule runs to the cap without
+  // searching after the fixed point, and ends where the converged one did.
+  icp.termination.relative_tolerance = 0;
+  icp.termination.max_iterations = 200;
+  CountingSearch::queries = 0;
+  const auto capped = icp.align(ref, test);
+  CHECK(capped.stop_reason == StopReason::MaxIterations);
+  CHECK(capped.iterations == 200);
+  CHECK(CountingSearch::queries == 60LL * converged.iterations);
+  CHECK(capped.error == converged.error);
+  CHECK(capped.T_model_test.R == converged.T_model_test.R);
+  CHECK(capped.T_model_test.t == converged.T_model_test.t);
+  // And the kd-tree, which uses its own warm-started queries, agrees.
+  icp.termination = {};
+  const auto tree = icp.align(ReferenceCloud<double, 3>(model), test);
+  CHECK(tree.iterations == converged.iterations);
+  CHECK(tree.error == converged.error);
+  CHECK(tree.T_model_test.R == converged.T_model_test.R);
+}

@@ -30,6 +30,8 @@ struct IcpWorkspace {
   std::vector<Correspondence<Scalar>> pairs;
   /// Each test point's previous match, the warm start of its next query.
   std::vector<Index> hints;
+  /// The kept pairs the current transform was estimated from.
+  std::vector<Correspondence<Scalar>> previous_pairs;
 };
 
 /// Iterative Closest (Labeled) Point in `Dim` dimensions (paper, Section III).
@@ -274,6 +276,16 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
   /// again, check the stopping rules. Returns !done(); a no-op once done.
   bool step() {
     if (done_) return false;
+    if (fixed_point_) {
+      // The pairs matched under the current transform are the pairs it was
+      // estimated from: this update would give the same transform, pairs and
+      // E again, so only the count and the stopping rules move (no search).
+      ++iterations_;
+      previous_ = error_;
+      check_stop();
+      return !done_;
+    }
+    ws_->previous_pairs.assign(ws_->pairs.begin(), ws_->pairs.begin() + static_cast<std::ptrdiff_t>(kept_));
     const auto e = icp_->estimate(ws_->test_points, reference_->working_points(), ws_->pairs, kept_, b_);
     R_acc_ = e.R;
     t_acc_ = e.t;
@@ -282,6 +294,7 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
     ++iterations_;
     previous_ = error_;
     match_and_check();
+    if (!done_) fixed_point_ = same_pairs();
     return !done_;
   }
 
@@ -344,6 +357,23 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
   using AccBlockMatrix = SquareMatrix<Acc, B>;
   using AccBlockVector = Point<Acc, B>;
 
+  /// The kept pairs, in order, equal those the current transform was
+  /// estimated from (ws_->previous_pairs)?
+  bool same_pairs() const {
+    if (static_cast<std::size_t>(kept_) != ws_->previous_pairs.size()) return false;
+    for (std::size_t k = 0; k < ws_->previous_pairs.size(); ++k)
+      if (ws_->pairs[k].test != ws_->previous_pairs[k].test || ws_->pairs[k].model != ws_->previous_pairs[k].model)
+        return false;
+    return true;
+  }
+
+  void check_stop() {
+    if (const auto stop = icp_->termination.check(iterations_, static_cast<Scalar>(error_), static_cast<Scalar>(previous_))) {
+      done_ = true;
+      reason_ = *stop;
+    }
+  }
+
   void match_and_check() {
     error_ = icp_->correspond(ws_->test_points, R_, t_, reference_->search(), y_, ws_->pairs, ws_->hints, b_,
                               kept_);
@@ -352,10 +382,7 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
       reason_ = StopReason::NoCorrespondences;
       return;
     }
-    if (const auto stop = icp_->termination.check(iterations_, static_cast<Scalar>(error_), static_cast<Scalar>(previous_))) {
-      done_ = true;
-      reason_ = *stop;
-    }
+    check_stop();
   }
 
   const Icp* icp_;
@@ -372,6 +399,7 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
   Index kept_ = 0;
   int iterations_ = 0;
   bool done_ = false;
+  bool fixed_point_ = false;  // see step()
   StopReason reason_ = StopReason::MaxIterations;
 };
 
