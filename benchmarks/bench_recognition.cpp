@@ -102,8 +102,28 @@ void BM_IclapDecision(benchmark::State& state, PruningSettings::Schedule schedul
   state.counters["registrations_run"] = completed / static_cast<double>(count);
 }
 
+/// All 20 distances of one registration classifier with `leaf` points per
+/// kd-tree leaf in its references: what the default reference search
+/// settings (24) save against KdTreeSearch's own default (10). The distances
+/// are identical (tests/recognition/test_pruning.cpp).
+template <typename C>
+void BM_LeafSize(benchmark::State& state) {
+  const Scene& s = scene();
+  C c;
+  c.search_settings.leaf_max_size = static_cast<std::size_t>(state.range(0));
+  c.fit(s.objects, s.k);
+  Eigen::VectorXd d(static_cast<Index>(s.objects.size()));
+  std::size_t i = 0;
+  for (auto _ : state) {
+    c.distances(s.tests[i++ % s.tests.size()], d);
+    benchmark::DoNotOptimize(d.data());
+  }
+}
+
 }  // namespace
 
+BENCHMARK_TEMPLATE(BM_LeafSize, IcpClassifier<float, Planar>)->Arg(10)->Arg(24)->ArgName("leaf");
+BENCHMARK_TEMPLATE(BM_LeafSize, IclapClassifier<float, Planar>)->Arg(10)->Arg(24)->ArgName("leaf");
 BENCHMARK_CAPTURE(BM_Recognition, bow, std::string("bow"));
 BENCHMARK_CAPTURE(BM_Recognition, icp, std::string("icp"));
 BENCHMARK_CAPTURE(BM_Recognition, iclap, std::string("iclap"));

@@ -16,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "iclap/io/atomic_file.hpp"
@@ -79,22 +80,33 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  std::vector<PruningSettings> schedules(7);
-  schedules[0].schedule = PruningSettings::Schedule::None;
-  schedules[1].schedule = PruningSettings::Schedule::Bound;
-  for (std::size_t i = 2; i < 5; ++i) schedules[i].schedule = PruningSettings::Schedule::Halving;
-  schedules[3].round_iterations = 1;
-  schedules[3].keep_fraction = 0.25;
-  schedules[3].finalists = 3;
-  schedules[4].round_iterations = 3;
-  schedules[4].keep_fraction = 0.2;
-  schedules[4].finalists = 4;
-  schedules[5].schedule = schedules[6].schedule = PruningSettings::Schedule::Bound;
-  schedules[5].shortlist = 20;
-  schedules[6].shortlist = 50;
-  const char* names[] = {"every registration", "lower-bound pruning (exact)", "halving 2 it, keep 1/2, 2 final",
-                         "halving 1 it, keep 1/4, 3 final", "halving 3 it, keep 1/5, 4 final",
-                         "bound, shortlist 20", "bound, shortlist 50"};
+  using Schedule = PruningSettings::Schedule;
+  auto halving = [](int round_iterations, double keep_fraction, Index finalists) {
+    PruningSettings p;
+    p.schedule = Schedule::Halving;
+    p.round_iterations = round_iterations;
+    p.keep_fraction = keep_fraction;
+    p.finalists = finalists;
+    return p;
+  };
+  auto bound = [](Index shortlist) {
+    PruningSettings p;
+    p.schedule = Schedule::Bound;
+    p.shortlist = shortlist;
+    return p;
+  };
+  const PruningSettings defaults;
+  // The first schedule is the one every other decision is compared with.
+  const std::vector<std::pair<std::string, PruningSettings>> schedules = {
+      {"every registration", PruningSettings{Schedule::None}},
+      {"lower-bound pruning (exact)", bound(0)},
+      {"halving 2 it, keep 1/2, 2 final",
+       halving(defaults.round_iterations, defaults.keep_fraction, defaults.finalists)},
+      {"halving 1 it, keep 1/4, 3 final", halving(1, 0.25, 3)},
+      {"halving 3 it, keep 1/5, 4 final", halving(3, 0.2, 4)},
+      {"bound, shortlist 20", bound(20)},
+      {"bound, shortlist 50", bound(50)},
+  };
   std::vector<std::vector<Measure>> results;
   std::printf("iCLAP decisions of 20-touch tests, 1 thread\n%8s  %-33s %10s %12s %14s %8s %10s %14s\n", "objects",
               "schedule", "ms/recog.", "x 20 objects", "registrations", "rate", "rate lost", "same decision");
@@ -116,7 +128,8 @@ int main(int argc, char** argv) {
     c.fit(split.references, split.words);
     std::vector<Measure> row;
     std::vector<Index> reference_decisions;
-    for (const PruningSettings& p : schedules) {
+    for (const auto& schedule : schedules) {
+      const PruningSettings& p = schedule.second;
       Measure m;
       std::size_t correct = 0, same = 0;
       std::vector<Index> decisions;
@@ -138,7 +151,7 @@ int main(int argc, char** argv) {
     }
     results.push_back(row);
     for (std::size_t s = 0; s < row.size(); ++s)
-      std::printf("%8zu  %-33s %10.3f %12.2f %14.1f %7.1f%% %9.1f %13.1f%%\n", n, names[s], row[s].ms,
+      std::printf("%8zu  %-33s %10.3f %12.2f %14.1f %7.1f%% %9.1f %13.1f%%\n", n, schedules[s].first.c_str(), row[s].ms,
                   row[s].ms / results.front()[0].ms, row[s].registrations, 100 * row[s].rate,
                   100 * (row[0].rate - row[s].rate), 100 * row[s].same);
     std::fflush(stdout);
@@ -149,7 +162,7 @@ int main(int argc, char** argv) {
                 "same_decision\n";
   for (std::size_t i = 0; i < sizes.size(); ++i)
     for (std::size_t s = 0; s < results[i].size(); ++s)
-      w.stream() << sizes[i] << "," << names[s] << "," << results[i][s].ms << ","
+      w.stream() << sizes[i] << "," << schedules[s].first << "," << results[i][s].ms << ","
                  << results[i][s].ms / results.front()[0].ms << "," << results[i][s].registrations << ","
                  << results[i][s].rate << "," << results[i][s].same << "\n";
   w.commit();

@@ -215,3 +215,32 @@ TEST_CASE("multi-start widens the basin; subsampling bounds the reference size")
   small.fit(sc.objects, 4);
   for (const auto& r : small.references()) CHECK(r.size() == 25);
 }
+
+TEST_CASE("the reference search settings change the speed, never the distances") {
+  const Scene sc = make_scene(8, 5);
+  IclapClassifier<float, Planar> by_default, tiny_leaves, one_leaf;
+  by_default.embedding.label_scale = tiny_leaves.embedding.label_scale = one_leaf.embedding.label_scale = 0.002;
+  CHECK(by_default.search_settings.leaf_max_size == 24);
+  tiny_leaves.search_settings.leaf_max_size = 1;
+  one_leaf.search_settings.leaf_max_size = 1000;  // one leaf: brute force inside the tree
+  for (auto* c : {&by_default, &tiny_leaves, &one_leaf}) c->fit(sc.objects, 4);
+  IcpClassifier<double, Planar> icp_default, icp_tiny;
+  icp_tiny.search_settings.leaf_max_size = 2;
+  icp_default.fit(sc.objects, 4);
+  icp_tiny.fit(sc.objects, 4);
+  for (const auto& [truth, test] : sc.tests) {
+    (void)truth;
+    Eigen::VectorXd a(8), b(8), c(8);
+    by_default.distances(test, a);
+    tiny_leaves.distances(test, b);
+    one_leaf.distances(test, c);
+    CHECK(a == b);  // bit for bit: same neighbours, same arithmetic
+    CHECK(a == c);
+    icp_default.distances(test, a);
+    icp_tiny.distances(test, b);
+    CHECK(a == b);
+  }
+  IclapClassifier<float, Planar> bad;
+  bad.search_settings.leaf_max_size = 0;
+  CHECK_THROWS_AS(bad.fit(sc.objects, 4), InvalidArgument);
+}

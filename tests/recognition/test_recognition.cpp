@@ -9,54 +9,13 @@
 
 #include "iclap/core/random.hpp"
 #include "iclap/recognition/recognition.hpp"
+#include "synthetic_objects.hpp"
 
 using namespace iclap;
 
 namespace {
 
-/// Three objects on a table, 4 explorations each, 25 touches per
-/// exploration: a straight bar (object 0), a ring (object 1) and the same
-/// bar with a differently shaped end (object 2: same extent as 0, other local
-/// feel at one end). Features are 4-D: a "pattern" per local shape plus
-/// noise. Each exploration re-places the object by a small shift.
-TouchTable synthetic_table(std::uint64_t seed) {
-  TouchTable t;
-  t.objects = {"bar", "ring", "bar_hooked"};
-  Rng rng(seed);
-  const int per = 25;
-  const int n = 3 * 4 * per;
-  t.touches.positions.resize(3, n);
-  t.touches.features.resize(4, n);
-  Index j = 0;
-  for (Index o = 0; o < 3; ++o) {
-    for (std::int64_t e = 0; e < 4; ++e) {
-      const Eigen::Vector3d shift(rng.uniform(-0.002, 0.002), rng.uniform(-0.002, 0.002), 0.0);
-      for (int i = 0; i < per; ++i) {
-        const double u = rng.uniform();
-        Eigen::Vector3d p;
-        Eigen::Vector4f f = Eigen::Vector4f::Zero();
-        if (o == 1) {
-          const double a = 2 * 3.141592653589793 * u;
-          p << 0.03 * std::cos(a), 0.03 * std::sin(a), 0.01;
-          f(1) = 1;
-        } else {
-          p << -0.06 + 0.12 * u, 0.0, 0.01;
-          const bool end = u > 0.8;
-          f(end ? (o == 0 ? 2 : 3) : 0) = 1;
-        }
-        p += shift + Eigen::Vector3d(rng.normal(0, 3e-4), rng.normal(0, 3e-4), rng.normal(0, 3e-4));
-        for (Index k = 0; k < 4; ++k) f(k) += static_cast<float>(rng.normal(0, 0.05));
-        t.touches.positions.col(j) = p;
-        t.touches.features.col(j) = f;
-        t.object.push_back(o);
-        t.exploration.push_back(e + 10);  // ids need not start at 0
-        t.frame.push_back(i);
-        ++j;
-      }
-    }
-  }
-  return t;
-}
+using test::synthetic_table;  // 25 touches per exploration, in time order
 
 std::vector<std::unique_ptr<Classifier>> all_classifiers() {
   std::vector<std::unique_ptr<Classifier>> cs;

@@ -196,6 +196,22 @@ struct has_embed_reference<E, Scalar, Dim,
                            std::void_t<decltype(std::declval<const E&>().template embed_reference<Scalar, Dim>(
                                std::declval<const TouchSet&>(), std::declval<Cloud<Scalar, Dim>&>()))>>
     : std::true_type {};
+
+template <typename Settings, typename = void>
+struct has_leaf_size : std::false_type {};
+template <typename Settings>
+struct has_leaf_size<Settings, std::void_t<decltype(std::declval<Settings&>().leaf_max_size)>> : std::true_type {};
+
+/// Search settings for recognition references: a tree's leaves hold 24
+/// points. ICP's queries are warm-started from each point's previous match,
+/// and on the few-hundred-point references a larger leaf answers them with
+/// fewer node visits; the answers do not depend on the leaf size.
+template <typename Search>
+typename Search::Settings reference_search_settings() {
+  typename Search::Settings s{};
+  if constexpr (has_leaf_size<typename Search::Settings>::value) s.leaf_max_size = 24;
+  return s;
+}
 }  // namespace detail
 
 /// How `RegistrationClassifier::decide` avoids registering the test against
@@ -279,6 +295,12 @@ class RegistrationClassifier final : public Classifier {
   /// Keep at most this many points per reference (evenly spaced in touch
   /// order, which is time order along the sweeps); 0 keeps all.
   Index max_reference_points = 0;
+  /// Settings of each reference's search structure. Speed only: every
+  /// setting gives the same distances. For the kd-tree, 24 points per leaf
+  /// (`KdTreeSearch` alone defaults to 10): about 9% less time per
+  /// recognition on the built-in references (`bench_recognition`, cases
+  /// `leaf10` against the default).
+  typename Search::Settings search_settings = detail::reference_search_settings<Search>();
 
   std::string name() const override { return label; }
 
@@ -306,7 +328,7 @@ class RegistrationClassifier final : public Classifier {
         points = std::move(kept);
       }
       embedding.template weights<Scalar, Dim>(w, points.rows());
-      refs.emplace_back(points, w);
+      refs.emplace_back(points, w, search_settings);
     }
     // Lower-bound structures: the coordinates the transform model never
     // moves, weighted, in a kd-tree per reference.
