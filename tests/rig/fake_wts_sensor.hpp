@@ -11,13 +11,6 @@
 // from Rng::derive(seed, seq), so a test can recompute every frame from the
 // sequence numbers the fake reports as sent intact.
 
-#include <fcntl.h>
-#include <poll.h>
-#include <pty.h>
-#include <sys/ioctl.h>
-#include <termios.h>
-#include <unistd.h>
-
 #include <atomic>
 #include <cerrno>
 #include <chrono>
@@ -34,6 +27,7 @@
 #include "iclap/rig/packet_framer.hpp"
 #include "iclap/rig/wts_message.hpp"
 #include "iclap/rig/wts_protocol.hpp"
+#include "pty_port.hpp"
 
 namespace iclap::rig::test {
 
@@ -73,32 +67,18 @@ inline std::size_t fake_frame_seq(double p00, double p01) {
 class PtyFakeSensor {
  public:
   explicit PtyFakeSensor(FakeSensorScript script) : script_(script), seq_(script.first_seq) {
-    termios raw{};
-    ::cfmakeraw(&raw);
-    raw.c_cflag |= CLOCAL | CREAD;
-    char name[256] = {};
-    if (::openpty(&master_, &slave_, name, &raw, nullptr) != 0)
-      throw std::runtime_error(std::string("openpty failed: ") + std::strerror(errno));
-    path_ = name;
-    // Children (the iclap process under test) must not inherit the master,
-    // or closing it here would not hang up their port.
-    ::fcntl(master_, F_SETFD, FD_CLOEXEC);
-    ::fcntl(slave_, F_SETFD, FD_CLOEXEC);
-    ::fcntl(master_, F_SETFL, ::fcntl(master_, F_GETFL) | O_NONBLOCK);
     streaming_ = script_.streaming_at_connect;
     thread_ = std::thread([this] { run(); });
   }
   ~PtyFakeSensor() {
     quit_ = true;
     if (thread_.joinable()) thread_.join();
-    close_master();
-    if (slave_ >= 0) ::close(slave_);
   }
   PtyFakeSensor(const PtyFakeSensor&) = delete;
   PtyFakeSensor& operator=(const PtyFakeSensor&) = delete;
 
   /// The slave device path (/dev/pts/N), to open like /dev/ttyACM0.
-  const std::string& path() const { return path_; }
+  const std::string& path() const { return port_.path(); }
 
   /// Frames sent intact / corrupted since the last start command (sequence numbers).
   std::vector<std::size_t> intact() const { return locked(intact_); }
@@ -136,17 +116,13 @@ class PtyFakeSensor {
     auto next_frame = clock::now();
     Rng damage = Rng::derive(script_.seed, 0xDA11A6E);
     std::uint8_t buf[512];
-    while (!quit_ && master_ >= 0) {
-      flush_out();
-      pollfd p{master_, POLLIN, 0};
-      if (::poll(&p, 1, 2) > 0 && (p.revents & POLLIN)) {
-        const ssize_t n = ::read(master_, buf, sizeof buf);
-        if (n > 0) {
-          framer_.feed(buf, static_cast<std::size_t>(n));
-          while (auto packet = framer_.next()) handle(*packet);
-        }
+    while (!quit_ && port_.is_open()) {
+      port_.flush();
+      if (const std::size_t n = port_.read(buf, sizeof buf, std::chrono::milliseconds(2))) {
+        framer_.feed(buf, n);
+        while (auto packet = framer_.next()) handle(*packet);
       }
-      const bool may_send = out_.empty() && sent_in_session_ < script_.max_frames;
+      const bool may_send = port_.drained() && sent_in_session_ < script_.max_frames;
       if (streaming_ && may_send && clock::now() >= next_frame) {
         next_frame = clock::now() + std::chrono::milliseconds(script_.frame_interval_ms);
         send_frame(damage);
@@ -191,7 +167,7 @@ class PtyFakeSensor {
       case wts_id::kSetFrontEndGain: break;
       default: reply.status = 3;  // unknown command
     }
-    append_out(encode_reply(reply));
+    port_.queue(encode_reply(reply));
   }
 
   void send_frame(Rng& damage) {
@@ -204,7 +180,7 @@ class PtyFakeSensor {
     if (script_.junk_every && k % script_.junk_every == 0) {
       Bytes junk(1 + damage.below(40));
       for (auto& b : junk) b = damage.below(3) == 0 ? 0xAA : static_cast<std::uint8_t>(damage.below(256));
-      append_out(junk);
+      port_.queue(junk);
     }
     const bool corrupt = script_.corrupt_every && k % script_.corrupt_every == 0;
     if (corrupt) {
@@ -217,52 +193,18 @@ class PtyFakeSensor {
       if (!started_) ++stale_;
       else (corrupt ? corrupted_ : intact_).push_back(seq);
     }
-    append_out(packet);
-    flush_out(std::chrono::milliseconds(2000));
+    port_.queue(packet);
+    port_.flush(std::chrono::milliseconds(2000));
   }
 
-  void append_out(const Bytes& b) { out_.insert(out_.end(), b.begin(), b.end()); }
-
-  // Writes pending output, waiting up to `patience` for room.
-  void flush_out(std::chrono::milliseconds patience = std::chrono::milliseconds(0)) {
-    const auto deadline = std::chrono::steady_clock::now() + patience;
-    while (!out_.empty() && master_ >= 0) {
-      const ssize_t n = ::write(master_, out_.data(), out_.size());
-      if (n > 0) {
-        out_.erase(out_.begin(), out_.begin() + n);
-        continue;
-      }
-      if (std::chrono::steady_clock::now() >= deadline) return;
-      pollfd p{master_, POLLOUT, 0};
-      ::poll(&p, 1, 5);
-    }
-  }
-
-  // Closes the master once the host has read what was sent: the kernel
-  // discards unread input on hang-up, and the test checks that everything
-  // that reached the host is recorded.
+  // Closes the port once the host has read what was sent: the test checks
+  // that everything that reached the host is recorded.
   void unplug() {
-    flush_out(std::chrono::milliseconds(2000));
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-    int pending = 1;
-    while (std::chrono::steady_clock::now() < deadline) {
-      if (::ioctl(slave_, FIONREAD, &pending) != 0 || pending == 0) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(30));
-    unplugged_ = true;  // before the close: the host may look as soon as it sees the hang-up
-    close_master();
-  }
-
-  void close_master() {
-    if (master_ >= 0) ::close(master_);
-    master_ = -1;
+    port_.unplug([this] { unplugged_ = true; });
   }
 
   FakeSensorScript script_;
-  int master_ = -1;
-  int slave_ = -1;
-  std::string path_;
+  PtyPort port_;
   std::thread thread_;
   std::atomic<bool> quit_{false};
   std::atomic<bool> streaming_{false};
@@ -273,7 +215,6 @@ class PtyFakeSensor {
   std::size_t frames_total_ = 0;
   std::size_t sent_in_session_ = 0;
   PacketFramer framer_;
-  Bytes out_;
   mutable std::mutex mutex_;
   std::vector<std::size_t> intact_;
   std::vector<std::size_t> corrupted_;

@@ -11,6 +11,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -85,5 +86,35 @@ inline ProcessResult run_process(const std::vector<std::string>& argv, const std
   r.err = read_text(err);
   return r;
 }
+
+/// A fresh directory under the system temporary directory, named by
+/// `prefix` and the process id, removed with its contents at scope exit.
+/// `scratch("name")` is the path of a file in it.
+struct ScratchDir {
+  std::filesystem::path dir;
+  explicit ScratchDir(const std::string& prefix)
+      : dir(std::filesystem::temp_directory_path() / (prefix + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+  }
+  ~ScratchDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir, ignored);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  std::string operator()(const std::string& name) const { return (dir / name).string(); }
+};
+
+#ifdef ICLAP_CLI_PATH
+/// Runs the iclap binary under test with `args`; its output goes to files in
+/// `scratch`, and it is killed after `timeout`.
+inline ProcessResult run_iclap(const std::vector<std::string>& args, const ScratchDir& scratch,
+                               std::chrono::milliseconds timeout = std::chrono::milliseconds(60000)) {
+  std::vector<std::string> argv{ICLAP_CLI_PATH};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return run_process(argv, scratch("run"), timeout);
+}
+#endif
 
 }  // namespace iclap::rig::test

@@ -11,12 +11,7 @@
 
 #include <doctest/doctest.h>
 
-#include <fcntl.h>
-#include <poll.h>
-#include <pty.h>
 #include <signal.h>
-#include <sys/ioctl.h>
-#include <termios.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -41,6 +36,7 @@
 #include "iclap/rig/sim_frame_source.hpp"
 #include "iclap/sim/builtin_objects.hpp"
 #include "process_util.hpp"
+#include "pty_port.hpp"
 
 using namespace iclap::rig;
 using namespace std::chrono_literals;
@@ -56,23 +52,12 @@ const std::string kScissors = kFixtures + "scissors_2.csv";
 // does not depend on it.
 const std::string kMethod = "0.6*iclap+0.2*icp+0.2*bow";
 
-struct Scratch {
-  fs::path dir;
-  Scratch() {
-    dir = fs::temp_directory_path() / ("iclap_live_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  ~Scratch() { fs::remove_all(dir); }
-  std::string operator()(const std::string& name) const { return (dir / name).string(); }
+/// A scratch directory of this test program.
+struct Scratch : test::ScratchDir {
+  Scratch() : test::ScratchDir("iclap_live_") {}
 };
 
-test::ProcessResult run_iclap(const std::vector<std::string>& args, const Scratch& scratch,
-                              std::chrono::milliseconds timeout = 60000ms) {
-  std::vector<std::string> argv{ICLAP_CLI_PATH};
-  argv.insert(argv.end(), args.begin(), args.end());
-  return test::run_process(argv, scratch("run"), timeout);
-}
+using test::run_iclap;
 
 std::vector<std::string> lines_starting_with(const std::string& text, const std::string& prefix) {
   std::vector<std::string> out;
@@ -126,28 +111,16 @@ class ExplorationSensor {
   };
 
   explicit ExplorationSensor(Script script) : script_(std::move(script)) {
-    termios raw{};
-    ::cfmakeraw(&raw);
-    raw.c_cflag |= CLOCAL | CREAD;
-    char name[256] = {};
-    if (::openpty(&master_, &slave_, name, &raw, nullptr) != 0)
-      throw std::runtime_error(std::string("openpty failed: ") + std::strerror(errno));
-    path_ = name;
-    ::fcntl(master_, F_SETFD, FD_CLOEXEC);
-    ::fcntl(slave_, F_SETFD, FD_CLOEXEC);
-    ::fcntl(master_, F_SETFL, ::fcntl(master_, F_GETFL) | O_NONBLOCK);
     thread_ = std::thread([this] { run(); });
   }
   ~ExplorationSensor() {
     quit_ = true;
     thread_.join();
-    if (master_ >= 0) ::close(master_);
-    ::close(slave_);
   }
   ExplorationSensor(const ExplorationSensor&) = delete;
   ExplorationSensor& operator=(const ExplorationSensor&) = delete;
 
-  const std::string& path() const { return path_; }
+  const std::string& path() const { return port_.path(); }
   std::size_t sent() const { return sent_; }
   std::size_t corrupted() const { return corrupted_; }
   bool streaming() const { return streaming_; }
@@ -162,17 +135,13 @@ class ExplorationSensor {
     iclap::Rng damage(script_.seed);
     auto next = std::chrono::steady_clock::now();
     std::uint8_t buf[512];
-    while (!quit_ && master_ >= 0) {
-      flush(0ms);
-      pollfd p{master_, POLLIN, 0};
-      if (::poll(&p, 1, 2) > 0 && (p.revents & POLLIN)) {
-        const ssize_t n = ::read(master_, buf, sizeof buf);
-        if (n > 0) {
-          framer_.feed(buf, static_cast<std::size_t>(n));
-          while (auto packet = framer_.next()) handle(*packet);
-        }
+    while (!quit_ && port_.is_open()) {
+      port_.flush();
+      if (const std::size_t n = port_.read(buf, sizeof buf, 2ms)) {
+        framer_.feed(buf, n);
+        while (auto packet = framer_.next()) handle(*packet);
       }
-      if (streaming_ && out_.empty() && sent_ < script_.frames.size() && std::chrono::steady_clock::now() >= next) {
+      if (streaming_ && port_.drained() && sent_ < script_.frames.size() && std::chrono::steady_clock::now() >= next) {
         next = std::chrono::steady_clock::now() + std::chrono::milliseconds(script_.frame_interval_ms);
         send(damage);
         if (sent_ >= script_.unplug_after) {
@@ -192,8 +161,7 @@ class ExplorationSensor {
     if (packet.id == wts_id::kGetMatrixInfo) reply.payload = encode_matrix_info_payload(MatrixInfo{6, 14, 340, 340, 4095});
     if (packet.id == wts_id::kStartPeriodicFrames) streaming_ = true;
     if (packet.id == wts_id::kStopPeriodicFrames) streaming_ = false;
-    const Bytes b = encode_reply(reply);
-    out_.insert(out_.end(), b.begin(), b.end());
+    port_.queue(encode_reply(reply));
   }
 
   void send(iclap::Rng& damage) {
@@ -201,52 +169,25 @@ class ExplorationSensor {
     const Bytes packet = encode_frame(script_.frames[sent_]);
     if (script_.junk_every && k % script_.junk_every == 0)
       for (std::uint64_t i = 0, n = 1 + damage.below(30); i < n; ++i)
-        out_.push_back(damage.below(3) == 0 ? 0xAA : static_cast<std::uint8_t>(damage.below(256)));
+        port_.queue(damage.below(3) == 0 ? std::uint8_t{0xAA} : static_cast<std::uint8_t>(damage.below(256)));
     if (script_.corrupt_every && k % script_.corrupt_every == 0) {
       Bytes bad = packet;
       bad[3 + damage.below(bad.size() - 3)] ^= static_cast<std::uint8_t>(1u << damage.below(8));
-      out_.insert(out_.end(), bad.begin(), bad.end());
+      port_.queue(bad);
       ++corrupted_;
     }
-    out_.insert(out_.end(), packet.begin(), packet.end());
-    flush(2000ms);
+    port_.queue(packet);
+    port_.flush(2000ms);
     ++sent_;
   }
 
-  void flush(std::chrono::milliseconds patience) {
-    const auto deadline = std::chrono::steady_clock::now() + patience;
-    while (!out_.empty() && master_ >= 0) {
-      const ssize_t n = ::write(master_, out_.data(), out_.size());
-      if (n > 0) {
-        out_.erase(out_.begin(), out_.begin() + n);
-        continue;
-      }
-      if (std::chrono::steady_clock::now() >= deadline) return;
-      pollfd p{master_, POLLOUT, 0};
-      ::poll(&p, 1, 5);
-    }
-  }
-
-  // Closes the master once the host has read everything (the kernel drops
-  // unread input on hang-up).
+  // Closes the port once the host has read everything.
   void unplug() {
-    flush(2000ms);
-    const auto deadline = std::chrono::steady_clock::now() + 5s;
-    int pending = 1;
-    while (std::chrono::steady_clock::now() < deadline) {
-      if (::ioctl(slave_, FIONREAD, &pending) != 0 || pending == 0) break;
-      std::this_thread::sleep_for(2ms);
-    }
-    std::this_thread::sleep_for(30ms);
-    unplugged_ = true;
-    ::close(master_);
-    master_ = -1;
+    port_.unplug([this] { unplugged_ = true; });
   }
 
   Script script_;
-  int master_ = -1;
-  int slave_ = -1;
-  std::string path_;
+  test::PtyPort port_;
   std::thread thread_;
   std::atomic<bool> quit_{false};
   std::atomic<bool> streaming_{false};
@@ -254,7 +195,6 @@ class ExplorationSensor {
   std::atomic<std::size_t> sent_{0};
   std::atomic<std::size_t> corrupted_{0};
   PacketFramer framer_;
-  Bytes out_;
   mutable std::mutex mutex_;
   std::vector<std::uint8_t> ids_;
 };

@@ -30,23 +30,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Scratch {
-  fs::path dir;
-  Scratch() {
-    dir = fs::temp_directory_path() / ("iclap_record_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  ~Scratch() { fs::remove_all(dir); }
-  std::string operator()(const std::string& name) const { return (dir / name).string(); }
+/// A scratch directory of this test program.
+struct Scratch : test::ScratchDir {
+  Scratch() : test::ScratchDir("iclap_record_") {}
 };
 
-test::ProcessResult run_iclap(const std::vector<std::string>& args, const Scratch& scratch,
-                          std::chrono::milliseconds timeout = 30000ms) {
-  std::vector<std::string> argv{ICLAP_CLI_PATH};
-  argv.insert(argv.end(), args.begin(), args.end());
-  return test::run_process(argv, scratch("run"), timeout);
-}
+using test::run_iclap;
 
 std::vector<std::string> record_args(const std::string& port, const std::string& out) {
   return {"record", "--port", port, "--object", "mug", "--exploration", "2", "--out", out};

@@ -122,7 +122,10 @@ class Icp {
   }
 
  private:
+  // Also used by Registration (a nested class sees them).
   using Acc = Accumulator<Scalar>;
+  using AccPoint = Point<Acc, Dim>;
+  using AccMatrix = SquareMatrix<Acc, Dim>;
   using BlockMatrix = SquareMatrix<Scalar, B>;
   using BlockVector = Point<Scalar, B>;
   using AccBlockMatrix = SquareMatrix<Acc, B>;
@@ -349,13 +352,7 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
   }
 
  private:
-  using Acc = Accumulator<Scalar>;
-  using AccPoint = Point<Acc, Dim>;
-  using AccMatrix = SquareMatrix<Acc, Dim>;
-  using BlockMatrix = SquareMatrix<Scalar, B>;
-  using BlockVector = Point<Scalar, B>;
-  using AccBlockMatrix = SquareMatrix<Acc, B>;
-  using AccBlockVector = Point<Acc, B>;
+  // The precision aliases (Acc, AccPoint, BlockMatrix, ...) are Icp's.
 
   /// The kept pairs, in order, equal those the current transform was
   /// estimated from (ws_->previous_pairs)?
