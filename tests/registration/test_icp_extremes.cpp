@@ -182,7 +182,34 @@ TEST_CASE("the planar model's closed-form singular values flag rank deficiency l
   }
   const auto zero_h = Planar::estimate<double, 2>(zero, zero, Eigen::Matrix2d::Zero(), 1e-13);
   CHECK(zero_h.degenerate);
-  CHECK(zero_h.R.allFinite());
+  CHECK(zero_h.R.isIdentity(0));
+}
+
+TEST_CASE("the planar model's rotation maximises tr(R H), as the angle atan2(b, a) gives it") {
+  Rng rng(79);
+  const Eigen::Vector2d zero = Eigen::Vector2d::Zero();
+  auto by_angle = [](const Eigen::Matrix2d& H) {
+    const double t = std::atan2(H(0, 1) - H(1, 0), H(0, 0) + H(1, 1));
+    Eigen::Matrix2d R;
+    R << std::cos(t), -std::sin(t), std::sin(t), std::cos(t);
+    return R;
+  };
+  for (int k = 0; k < 400; ++k) {
+    CAPTURE(k);
+    Eigen::Matrix2d H;
+    for (Index i = 0; i < 4; ++i) H.data()[i] = rng.uniform() - 0.5;
+    H *= std::pow(10.0, 600 * rng.uniform() - 300);  // any scale double holds
+    const auto e = Planar::estimate<double, 2>(zero, zero, H, 1e-13);
+    const Eigen::Matrix2d R = by_angle(H);
+    CHECK((e.R - R).cwiseAbs().maxCoeff() < 4e-16);
+    CHECK((e.R * H).trace() >= (R * H).trace() - 1e-15 * H.cwiseAbs().maxCoeff());  // norm() would underflow
+  }
+  // Overflowing norms fall back to the angle: still a rotation.
+  Eigen::Matrix2d huge;
+  huge << 1e308, 0.9e308, -1.5e308, 1.2e308;
+  const auto h = Planar::estimate<double, 2>(zero, zero, huge, 1e-13);
+  CHECK((h.R - by_angle(huge)).cwiseAbs().maxCoeff() < 4e-16);
+  CHECK(std::abs(h.R.determinant() - 1.0) < 1e-14);
 }
 
 TEST_CASE_TEMPLATE("degenerate geometry: finite output, no NaN, flag set", S, float, double) {

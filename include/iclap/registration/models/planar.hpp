@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 
 #include "iclap/core/error.hpp"
 #include "iclap/registration/models/procrustes.hpp"
@@ -23,22 +24,33 @@ struct Planar {
       throw InvalidArgument("test", "the planar transform model needs at least 2 coordinates (x, y), got " +
                                         std::to_string(dim));
   }
-  /// Closed form: tr(R H) = cos(a) (H00 + H11) + sin(a) (H01 - H10) is
-  /// maximal at a = atan2(H01 - H10, H00 + H11); always a proper rotation.
+  /// Closed form: with a = H00 + H11 and b = H01 - H10, tr(R H) =
+  /// cos(t) a + sin(t) b is maximal at (cos t, sin t) = (a, b) / |(a, b)|
+  /// (the angle atan2(b, a), without evaluating it); always a proper
+  /// rotation, the identity when a = b = 0.
   template <typename Acc, int B>
   static BlockEstimate<Acc, B> estimate(const Point<Acc, B>& cp, const Point<Acc, B>& cq,
                                         const SquareMatrix<Acc, B>& H, double rank_tol) {
     static_assert(B == 2, "Planar acts on a 2-coordinate block");
     BlockEstimate<Acc, B> e;
-    const Acc angle = std::atan2(H(0, 1) - H(1, 0), H(0, 0) + H(1, 1));
-    const Acc c = std::cos(angle), s = std::sin(angle);
-    e.R << c, -s, s, c;
-    e.t = cq - e.R * cp;
+    const Acc a = H(0, 0) + H(1, 1), b = H(0, 1) - H(1, 0);
     // Singular values of the 2x2 H in closed form (H = rotation part +
     // reflection part): s = q + r and |q - r|, q the norm of the rotation
     // part, r of the reflection part. No cancellation: both are norms.
-    const Acc q = std::hypot(H(0, 0) + H(1, 1), H(1, 0) - H(0, 1)) / 2;
+    const Acc norm = std::hypot(a, b);
+    const Acc q = norm / 2;
     const Acc r = std::hypot(H(0, 0) - H(1, 1), H(1, 0) + H(0, 1)) / 2;
+    Acc c = 1, s = 0;
+    if (norm > 0 && norm <= std::numeric_limits<Acc>::max()) {
+      c = a / norm;
+      s = b / norm;
+    } else if (!(norm == 0)) {  // overflowed or NaN: what the angle gives
+      const Acc angle = std::atan2(b, a);
+      c = std::cos(angle);
+      s = std::sin(angle);
+    }
+    e.R << c, -s, s, c;
+    e.t = cq - e.R * cp;
     e.degenerate = detail::rank_deficient<Acc, 2>(Point<Acc, 2>(q + r, std::abs(q - r)), rank_tol);
     return e;
   }
