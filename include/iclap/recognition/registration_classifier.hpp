@@ -297,9 +297,9 @@ class RegistrationClassifier final : public Classifier {
   Index max_reference_points = 0;
   /// Settings of each reference's search structure. Speed only: every
   /// setting gives the same distances. For the kd-tree, 24 points per leaf
-  /// (`KdTreeSearch` alone defaults to 10): about 9% less time per
-  /// recognition on the built-in references (`bench_recognition`, cases
-  /// `leaf10` against the default).
+  /// (`KdTreeSearch` alone defaults to 10): 9-14% less time per
+  /// recognition on the built-in references (`bench_recognition
+  /// --benchmark_filter=LeafSize`, cases leaf:10 against leaf:24).
   typename Search::Settings search_settings = detail::reference_search_settings<Search>();
 
   std::string name() const override { return label; }

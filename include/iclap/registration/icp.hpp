@@ -30,7 +30,8 @@ struct IcpWorkspace {
   std::vector<Correspondence<Scalar>> pairs;
   /// Each test point's previous match, the warm start of its next query.
   std::vector<Index> hints;
-  /// The kept pairs the current transform was estimated from.
+  /// The pairs the current transform was estimated from (the kept ones
+  /// first); swapped with `pairs` at every iteration, never copied.
   std::vector<Correspondence<Scalar>> previous_pairs;
 };
 
@@ -288,8 +289,10 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
       check_stop();
       return !done_;
     }
-    ws_->previous_pairs.assign(ws_->pairs.begin(), ws_->pairs.begin() + static_cast<std::ptrdiff_t>(kept_));
-    const auto e = icp_->estimate(ws_->test_points, reference_->working_points(), ws_->pairs, kept_, b_);
+    ws_->pairs.swap(ws_->previous_pairs);
+    previous_kept_ = kept_;
+    const auto e = icp_->estimate(ws_->test_points, reference_->working_points(), ws_->previous_pairs, kept_, b_);
+    ws_->pairs.resize(ws_->previous_pairs.size());
     R_acc_ = e.R;
     t_acc_ = e.t;
     R_ = R_acc_.template cast<Scalar>();
@@ -355,10 +358,10 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
   // The precision aliases (Acc, AccPoint, BlockMatrix, ...) are Icp's.
 
   /// The kept pairs, in order, equal those the current transform was
-  /// estimated from (ws_->previous_pairs)?
+  /// estimated from (the first previous_kept_ of ws_->previous_pairs)?
   bool same_pairs() const {
-    if (static_cast<std::size_t>(kept_) != ws_->previous_pairs.size()) return false;
-    for (std::size_t k = 0; k < ws_->previous_pairs.size(); ++k)
+    if (kept_ != previous_kept_) return false;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(kept_); ++k)
       if (ws_->pairs[k].test != ws_->previous_pairs[k].test || ws_->pairs[k].model != ws_->previous_pairs[k].model)
         return false;
     return true;
@@ -393,7 +396,7 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
   BlockVector t_;
   Point<Scalar, Dim> y_;
   Acc error_ = 0, previous_ = 0;
-  Index kept_ = 0;
+  Index kept_ = 0, previous_kept_ = 0;
   int iterations_ = 0;
   bool done_ = false;
   bool fixed_point_ = false;  // see step()

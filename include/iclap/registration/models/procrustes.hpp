@@ -154,5 +154,16 @@ void proper_rotation(const SquareMatrix<Acc, B>& H, double rank_tol, SquareMatri
   }
 }
 
+/// The rigid block motion of FullRigid and SpatialRigid: R from
+/// `proper_rotation`, t = cq - R cp (paper, Sec. III).
+template <typename Acc, int B>
+BlockEstimate<Acc, B> rigid_estimate(const Point<Acc, B>& cp, const Point<Acc, B>& cq, const SquareMatrix<Acc, B>& H,
+                                     double rank_tol) {
+  BlockEstimate<Acc, B> e;
+  proper_rotation<Acc, B>(H, rank_tol, e.R, e.degenerate);
+  e.t = cq - e.R * cp;
+  return e;
+}
+
 }  // namespace detail
 }  // namespace iclap

@@ -24,10 +24,7 @@ struct SpatialRigid {
   template <typename Acc, int B>
   static BlockEstimate<Acc, B> estimate(const Point<Acc, B>& cp, const Point<Acc, B>& cq,
                                         const SquareMatrix<Acc, B>& H, double rank_tol) {
-    BlockEstimate<Acc, B> e;
-    detail::proper_rotation<Acc, B>(H, rank_tol, e.R, e.degenerate);
-    e.t = cq - e.R * cp;
-    return e;
+    return detail::rigid_estimate<Acc, B>(cp, cq, H, rank_tol);
   }
 };
 
