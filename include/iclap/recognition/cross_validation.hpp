@@ -196,6 +196,10 @@ class CrossValidation {
         result.sweeps.push_back(std::move(s));
       }
     }
+    // Each method's weight sweep, if it has one (index into result.sweeps).
+    std::vector<std::size_t> sweep_of(methods_.size(), result.sweeps.size());
+    for (std::size_t mi = 0, k = 0; mi < methods_.size(); ++mi)
+      if (methods_[mi].fit_weights && settings_.weight_sweeps) sweep_of[mi] = k++;
     const bool any_fit = std::any_of(methods_.begin(), methods_.end(), [](const Method& m) { return m.fit_weights; });
 
     // Total work, for progress.
@@ -242,8 +246,9 @@ class CrossValidation {
           inner_tables.push_back(compute(rec, all, draws, fitted_classifiers_, tick));
           inner_draws.push_back(std::move(draws));
         }
-        for (auto& m : chosen)
-          if (m.fit_weights) m.fusion = choose_weights(m, inner_draws, inner_tables);
+        parallel_for(chosen.size(), [&](std::size_t mi, unsigned) {
+          if (chosen[mi].fit_weights) chosen[mi].fusion = choose_weights(chosen[mi], inner_draws, inner_tables);
+        });
       }
 
       // Outer test on the held-out exploration.
@@ -255,8 +260,8 @@ class CrossValidation {
       result.classifier_seconds.resize(seconds.size(), 0.0);
       for (std::size_t c = 0; c < seconds.size(); ++c) result.classifier_seconds[c] += seconds[c];
       result.tests += draws.size();
-      std::size_t sweep = 0;
-      for (std::size_t mi = 0; mi < chosen.size(); ++mi) {
+      // Every method writes only its own MethodResult and sweep.
+      parallel_for(chosen.size(), [&](std::size_t mi, unsigned) {
         MethodResult& r = result.methods[mi];
         r.fold_correct.emplace_back(nt, 0);
         r.fold_total.emplace_back(nt, 0);
@@ -272,8 +277,8 @@ class CrossValidation {
           r.fold_total.back()[dr.touch_index] += 1;
           r.confusion[dr.touch_index](dr.object, guess) += 1;
         }
-        if (methods_[mi].fit_weights && settings_.weight_sweeps) {
-          WeightSweep& s = result.sweeps[sweep++];
+        if (sweep_of[mi] < result.sweeps.size()) {
+          WeightSweep& s = result.sweeps[sweep_of[mi]];
           for (const auto& dr : draws) s.total[dr.touch_index] += 1;
           for (std::size_t g = 0; g < s.grid.size(); ++g) {
             const Fusion fg = methods_[mi].fusion.with_weights(s.grid[g]);
@@ -281,7 +286,7 @@ class CrossValidation {
               s.correct[g][draws[d].touch_index] += decide(fg.evaluate(tables[d])) == draws[d].object;
           }
         }
-      }
+      });
     }
     return result;
   }
@@ -375,45 +380,57 @@ class CrossValidation {
                                      const std::vector<std::string>& only, Tick& tick,
                                      std::vector<double>* seconds = nullptr) const {
     std::vector<DistanceTable> tables(draws.size());
-    std::mutex seconds_mutex;
-    if (seconds) seconds->assign(rec.classifiers().size(), 0.0);
+    std::vector<std::vector<double>> worker_seconds(worker_count(draws.size()));
+    parallel_for(draws.size(), [&](std::size_t d, unsigned worker) {
+      tables[d] = rec.distances(select_touches(all, draws[d].touches), only,
+                                seconds ? &worker_seconds[worker] : nullptr);
+      tick();
+    });
+    if (seconds) {
+      seconds->assign(rec.classifiers().size(), 0.0);
+      for (const auto& mine : worker_seconds)
+        for (std::size_t c = 0; c < mine.size(); ++c) (*seconds)[c] += mine[c];
+    }
+    return tables;
+  }
+
+  /// Threads used for `count` items: settings.threads (0: all cores), at
+  /// most one per item, at least one.
+  unsigned worker_count(std::size_t count) const {
+    unsigned n = settings_.threads > 0 ? static_cast<unsigned>(settings_.threads) : std::thread::hardware_concurrency();
+    return std::max(1u, std::min<unsigned>(n, static_cast<unsigned>(std::max<std::size_t>(1, count))));
+  }
+
+  /// Calls body(i, worker) for every i in [0, count), handed out one at a
+  /// time to worker_count(count) threads (this one included; worker <
+  /// worker_count). After the first exception no new item starts, and it is
+  /// rethrown once every thread has stopped. Items must not write to shared
+  /// state other than their own (or through atomics).
+  template <typename Body>
+  void parallel_for(std::size_t count, Body&& body) const {
     std::atomic<std::size_t> next{0};
     std::exception_ptr error;
     std::mutex error_mutex;
-    auto worker = [&] {
-      std::vector<double> mine;
-      struct Flush {  // adds this worker's times when it leaves, however it leaves
-        std::vector<double>& mine;
-        std::vector<double>* total;
-        std::mutex& m;
-        ~Flush() {
-          if (!total) return;
-          std::lock_guard<std::mutex> lock(m);
-          for (std::size_t c = 0; c < mine.size(); ++c) (*total)[c] += mine[c];
-        }
-      } flush{mine, seconds, seconds_mutex};
+    auto worker = [&](unsigned id) {
       for (;;) {
-        const std::size_t d = next++;
-        if (d >= draws.size()) return;
+        const std::size_t i = next++;
+        if (i >= count) return;
         try {
-          tables[d] = rec.distances(select_touches(all, draws[d].touches), only, seconds ? &mine : nullptr);
+          body(i, id);
         } catch (...) {
           std::lock_guard<std::mutex> lock(error_mutex);
           if (!error) error = std::current_exception();
-          next = draws.size();
+          next = count;
           return;
         }
-        tick();
       }
     };
-    unsigned n = settings_.threads > 0 ? static_cast<unsigned>(settings_.threads) : std::thread::hardware_concurrency();
-    n = std::max(1u, std::min<unsigned>(n, static_cast<unsigned>(std::max<std::size_t>(1, draws.size()))));
+    const unsigned n = worker_count(count);
     std::vector<std::thread> pool;
-    for (unsigned i = 1; i < n; ++i) pool.emplace_back(worker);
-    worker();
+    for (unsigned id = 1; id < n; ++id) pool.emplace_back(worker, id);
+    worker(0);
     for (auto& t : pool) t.join();
     if (error) std::rethrow_exception(error);
-    return tables;
   }
 
   /// The grid weights with the highest inner-fold rate (ties: larger mean
