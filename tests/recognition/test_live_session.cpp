@@ -263,19 +263,10 @@ TEST_CASE("live weights: fixed methods pass through, fitted ones come from the g
     CHECK(m.correct[0] + m.correct[1] <= w.correct);
   }
   // Two explorations per object are enough (no nested search).
-  TouchTable two = t;
   std::vector<Index> keep;
   for (Index i = 0; i < t.size(); ++i)
     if (t.exploration[static_cast<std::size_t>(i)] < 12) keep.push_back(i);
-  two.touches = select_touches(t.touches, keep);
-  two.object.clear();
-  two.exploration.clear();
-  two.frame.clear();
-  for (Index i : keep) {
-    two.object.push_back(t.object[static_cast<std::size_t>(i)]);
-    two.exploration.push_back(t.exploration[static_cast<std::size_t>(i)]);
-    two.frame.push_back(t.frame[static_cast<std::size_t>(i)]);
-  }
+  const TouchTable two = t.select(keep);
   CHECK(choose_live_weights(two, classifiers, codebook(), fitted, s).folds == 2);
 }
 
@@ -365,19 +356,10 @@ TEST_CASE("live evaluation: replays held-out explorations in time order, determi
   CHECK_THROWS_AS(evaluate_live_stopping(t, classifiers, codebook(), method, s), InvalidArgument);
   // Fitted weights need inner folds: 3 explorations of every object.
   s.max_touches = 4;
-  TouchTable two = t;
   std::vector<Index> keep;
   for (Index i = 0; i < t.size(); ++i)
     if (t.exploration[static_cast<std::size_t>(i)] < 12 || t.object[static_cast<std::size_t>(i)] != 2) keep.push_back(i);
-  two.touches = select_touches(t.touches, keep);
-  two.object.clear();
-  two.exploration.clear();
-  two.frame.clear();
-  for (Index i : keep) {
-    two.object.push_back(t.object[static_cast<std::size_t>(i)]);
-    two.exploration.push_back(t.exploration[static_cast<std::size_t>(i)]);
-    two.frame.push_back(t.frame[static_cast<std::size_t>(i)]);
-  }
+  const TouchTable two = t.select(keep);
   CHECK_THROWS_WITH_AS(evaluate_live_stopping(two, classifiers, codebook(), method, s),
                        doctest::Contains("'bar_hooked' has 2"), InvalidArgument);
   CHECK(evaluate_live_stopping(two, classifiers, codebook(), parse_method("0.5*iclap+0.5*icp"), s).folds == 2);

@@ -99,6 +99,27 @@ TEST_CASE("classifier inputs are validated") {
   CHECK_THROWS_AS(iclap.fit({labeled}, 4), InvalidArgument);
 }
 
+TEST_CASE("a touch table's rows are selected with their object, exploration and frame") {
+  const TouchTable t = synthetic_table(3);
+  REQUIRE(t.size() > 40);
+  const std::vector<Index> rows = {40, 2, 2, t.size() - 1};
+  const TouchTable s = t.select(rows);
+  REQUIRE(s.size() == 4);
+  CHECK(s.objects == t.objects);
+  CHECK(s.idle_frames == 0);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto r = static_cast<std::size_t>(rows[k]);
+    CHECK(s.object[k] == t.object[r]);
+    CHECK(s.exploration[k] == t.exploration[r]);
+    CHECK(s.frame[k] == t.frame[r]);
+    CHECK(s.touches.positions.col(static_cast<Index>(k)) == t.touches.positions.col(rows[k]));
+    CHECK(s.touches.features.col(static_cast<Index>(k)) == t.touches.features.col(rows[k]));
+  }
+  CHECK(t.select({}).size() == 0);
+  CHECK_THROWS_WITH_AS(t.select({0, t.size()}), doctest::Contains("position 1"), InvalidArgument);
+  CHECK_THROWS_WITH_AS(t.select({-1}), doctest::Contains("rows"), InvalidArgument);
+}
+
 TEST_CASE("the recogniser fuses every classifier once per test") {
   const TouchTable t = synthetic_table(3);
   KMeansQuantizer<float> q = codebook(4);

@@ -33,6 +33,27 @@ struct TouchTable {
 
   Index size() const noexcept { return touches.size(); }
 
+  /// The touches at `rows` (indices into this table, in that order) as a
+  /// table of their own, e.g. to drop explorations or objects' touches. The
+  /// object list is kept whole, so object indices stay valid; idle_frames is
+  /// 0. Throws InvalidArgument naming "rows" for an index outside [0, size()).
+  TouchTable select(const std::vector<Index>& rows) const {
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      if (rows[k] < 0 || rows[k] >= size())
+        throw InvalidArgument("rows", "index " + std::to_string(rows[k]) + " at position " + std::to_string(k) +
+                                          " is outside the table's " + std::to_string(size()) + " touches");
+    TouchTable out;
+    out.objects = objects;
+    out.touches = select_touches(touches, rows);
+    for (const Index i : rows) {
+      const auto r = static_cast<std::size_t>(i);
+      out.object.push_back(object[r]);
+      out.exploration.push_back(exploration[r]);
+      out.frame.push_back(frame[r]);
+    }
+    return out;
+  }
+
   /// Sorted exploration ids of object `o`.
   std::vector<std::int64_t> explorations_of(Index o) const {
     std::vector<std::int64_t> ids;
