@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // Runs the real `iclap` binary from tests: spawn with stdout/stderr in
-// files, wait with a deadline, read files back.
+// files, wait with a deadline, read files back; doctest checks of usage errors.
 
 #include <signal.h>
 #include <fcntl.h>
@@ -17,7 +17,10 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
+
+#include <doctest/doctest.h>
 
 extern char** environ;
 
@@ -114,6 +117,20 @@ inline ProcessResult run_iclap(const std::vector<std::string>& args, const Scrat
   std::vector<std::string> argv{ICLAP_CLI_PATH};
   argv.insert(argv.end(), args.begin(), args.end());
   return run_process(argv, scratch("run"), timeout);
+}
+
+/// Command lines (arguments after `iclap`) and what stderr must name.
+using UsageCases = std::vector<std::pair<std::vector<std::string>, std::string>>;
+
+/// Each case must fail as a usage error: exit status 2, the needle on stderr.
+inline void check_usage_errors(const UsageCases& cases, const ScratchDir& scratch) {
+  for (const auto& [args, needle] : cases) {
+    CAPTURE(needle);
+    const auto r = run_iclap(args, scratch);
+    INFO(r.err);
+    CHECK(r.status == 2);
+    CHECK(r.err.find(needle) != std::string::npos);
+  }
 }
 #endif
 

@@ -405,7 +405,7 @@ TEST_CASE("iclap live: bad input exits 2 with a clear message") {
   small.frames.push_back(f);
   iclap::write_dataset_csv(scratch("grid2x2.csv"), small);
   const std::string refs = kTrain;
-  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+  const test::UsageCases cases = {
       {{"live", "--replay", kClamp}, "missing --references"},
       {{"live", "--references", refs}, "no source"},
       {{"live", "--references", refs, "--replay", kClamp, "--simulate", "hammer"}, "exclude each other"},
@@ -431,13 +431,7 @@ TEST_CASE("iclap live: bad input exits 2 with a clear message") {
       {{"live", "--references", refs, "--cross-validate", "--method", "iclap+icp"}, "at least 3 explorations"},
       {{"live", "--references", refs, "--replay", kClamp, "--normalization", "minmax"}, "unknown option --normalization"},
   };
-  for (const auto& [args, needle] : cases) {
-    CAPTURE(needle);
-    const auto r = run_iclap(args, scratch);
-    INFO(r.err);
-    CHECK(r.status == 2);
-    CHECK(r.err.find(needle) != std::string::npos);
-  }
+  test::check_usage_errors(cases, scratch);
 }
 
 TEST_CASE("SimFrameSource: the frames of simulate_exploration, optionally paced in real time") {

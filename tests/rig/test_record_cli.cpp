@@ -293,7 +293,7 @@ TEST_CASE("iclap record: --seconds, --grid and a silent sensor") {
 
 TEST_CASE("iclap record: usage errors exit 2 and name the option") {
   Scratch scratch;
-  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+  const test::UsageCases cases = {
       {{"record", "--object", "a", "--exploration", "1", "--out", "x.csv"}, "--port"},
       {{"record", "--port", "/dev/null", "--object", "a,b", "--exploration", "1", "--out", "x.csv"}, "--object"},
       {{"record", "--port", "/dev/null", "--object", "a", "--exploration", "-1", "--out", "x.csv"}, "--exploration"},
@@ -310,13 +310,7 @@ TEST_CASE("iclap record: usage errors exit 2 and name the option") {
        "/dev/iclap-none"},
       {{"record", "--port", "/dev/null", "--object", "a", "--exploration", "1", "--out", "x.csv"}, "not a serial port"},
   };
-  for (const auto& [args, needle] : cases) {
-    CAPTURE(needle);
-    const auto r = run_iclap(args, scratch);
-    INFO(r.err);
-    CHECK(r.status == 2);
-    CHECK(r.err.find(needle) != std::string::npos);
-  }
+  test::check_usage_errors(cases, scratch);
 }
 
 TEST_CASE("iclap devices: serial ports under a device root, and HID enumeration") {
