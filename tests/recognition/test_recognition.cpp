@@ -196,6 +196,39 @@ TEST_CASE("cross validation: rates, weights from training folds, identical for a
   }
 }
 
+// BoW that fails on every test set of exactly `bad_touches` touches.
+struct FailingBow final : Classifier {
+  BowClassifier bow;
+  std::string name() const override { return bow.name(); }
+  void fit(const std::vector<TouchSet>& objects, Index vocabulary) override { bow.fit(objects, vocabulary); }
+  void distances(const TouchSet& test, Eigen::Ref<Eigen::VectorXd> out) const override {
+    if (test.size() == 3) throw InvalidArgument("test", "3 touches refused");
+    bow.distances(test, out);
+  }
+  Index objects() const override { return bow.objects(); }
+};
+
+TEST_CASE("cross validation passes a classifier's error on, with any number of threads") {
+  const TouchTable t = synthetic_table(5);
+  auto failing = [] {
+    std::vector<std::unique_ptr<Classifier>> cs;
+    cs.push_back(std::make_unique<FailingBow>());
+    return cs;
+  };
+  for (int threads : {1, 2}) {
+    CAPTURE(threads);
+    CrossValidationSettings s;
+    s.touches = {1, 3};
+    s.repeats = 2;
+    s.threads = threads;
+    CrossValidation<> cv(t, failing, codebook(4), {parse_method("bow")}, s);
+    CHECK_THROWS_WITH_AS(cv.run(), "test: 3 touches refused", InvalidArgument);
+    s.touches = {1, 2};  // never 3 touches: runs to the end
+    CrossValidation<> fine(t, failing, codebook(4), {parse_method("bow")}, s);
+    CHECK(fine.run().methods.at(0).total.at(0) > 0);
+  }
+}
+
 TEST_CASE("cross validation refuses what it cannot do") {
   TouchTable t = synthetic_table(5);
   // A method that needs a classifier the factory does not make.
