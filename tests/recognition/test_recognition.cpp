@@ -196,7 +196,7 @@ TEST_CASE("cross validation: rates, weights from training folds, identical for a
   }
 }
 
-// BoW that fails on every test set of exactly `bad_touches` touches.
+// BoW that fails on every test set of exactly 3 touches.
 struct FailingBow final : Classifier {
   BowClassifier bow;
   std::string name() const override { return bow.name(); }

@@ -4,15 +4,14 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
-#include <exception>
 #include <functional>
 #include <memory>
-#include <mutex>
 #include <string>
-#include <thread>
+#include <utility>
 #include <vector>
 
 #include "iclap/core/error.hpp"
+#include "iclap/core/parallel.hpp"
 #include "iclap/core/progress.hpp"
 #include "iclap/core/random.hpp"
 #include "iclap/recognition/classifier.hpp"
@@ -394,43 +393,15 @@ class CrossValidation {
     return tables;
   }
 
-  /// Threads used for `count` items: settings.threads (0: all cores), at
-  /// most one per item, at least one.
+  /// Threads of this run for `count` items (see detail::worker_count).
   unsigned worker_count(std::size_t count) const {
-    unsigned n = settings_.threads > 0 ? static_cast<unsigned>(settings_.threads) : std::thread::hardware_concurrency();
-    return std::max(1u, std::min<unsigned>(n, static_cast<unsigned>(std::max<std::size_t>(1, count))));
+    return detail::worker_count(static_cast<unsigned>(settings_.threads), count);
   }
 
-  /// Calls body(i, worker) for every i in [0, count), handed out one at a
-  /// time to worker_count(count) threads (this one included; worker <
-  /// worker_count). After the first exception no new item starts, and it is
-  /// rethrown once every thread has stopped. Items must not write to shared
-  /// state other than their own (or through atomics).
+  /// detail::parallel_for on this run's threads.
   template <typename Body>
   void parallel_for(std::size_t count, Body&& body) const {
-    std::atomic<std::size_t> next{0};
-    std::exception_ptr error;
-    std::mutex error_mutex;
-    auto worker = [&](unsigned id) {
-      for (;;) {
-        const std::size_t i = next++;
-        if (i >= count) return;
-        try {
-          body(i, id);
-        } catch (...) {
-          std::lock_guard<std::mutex> lock(error_mutex);
-          if (!error) error = std::current_exception();
-          next = count;
-          return;
-        }
-      }
-    };
-    const unsigned n = worker_count(count);
-    std::vector<std::thread> pool;
-    for (unsigned id = 1; id < n; ++id) pool.emplace_back(worker, id);
-    worker(0);
-    for (auto& t : pool) t.join();
-    if (error) std::rethrow_exception(error);
+    detail::parallel_for(count, static_cast<unsigned>(settings_.threads), std::forward<Body>(body));
   }
 
   /// The grid weights with the highest inner-fold rate (ties: larger mean

@@ -22,12 +22,10 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <exception>
 #include <memory>
 #include <mutex>
 #include <numeric>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
@@ -35,6 +33,7 @@
 
 #include "iclap/core/check.hpp"
 #include "iclap/core/error.hpp"
+#include "iclap/core/parallel.hpp"
 #include "iclap/core/progress.hpp"
 #include "iclap/recognition/cross_validation.hpp"
 #include "iclap/recognition/fusion.hpp"
@@ -577,56 +576,38 @@ LiveEvaluationResult evaluate_live_stopping(const TouchTable& table, const Class
     }
     const LiveReferences<Quantizer> refs(table, train, factory, quantizer, fusion, cvs.normalization);
     std::vector<LiveTrace> traces(static_cast<std::size_t>(n_objects));
-    std::atomic<Index> next{0};
-    std::exception_ptr error;
-    std::mutex error_mutex;
-    auto worker = [&] {
-      LiveStopRule rule;
-      rule.confidence = 1.0;
-      for (;;) {
-        const Index o = next++;
-        if (o >= n_objects) return;
-        auto& idx = held[static_cast<std::size_t>(o)];
-        if (idx.empty()) continue;
-        try {
-          std::stable_sort(idx.begin(), idx.end(), [&](Index a, Index b) {
-            return table.frame[static_cast<std::size_t>(a)] < table.frame[static_cast<std::size_t>(b)];
-          });
-          LiveTrace& t = traces[static_cast<std::size_t>(o)];
-          t.fold = f;
-          t.object = o;
-          t.exploration = table.exploration[static_cast<std::size_t>(idx.front())];
-          t.available = static_cast<Index>(idx.size());
-          LiveSession s = refs.session(rule);
-          const Index n = std::min(settings.max_touches, t.available);
-          for (Index k = 0; k < n; ++k) {
-            const Index i = idx[static_cast<std::size_t>(k)];
-            const auto feature = table.touches.features.col(i);
-            s.add_touch(table.touches.positions.col(i), feature, refs.word(feature));
-            t.best.push_back(s.best());
-            t.confidence.push_back(s.confidence());
-            t.fused.push_back(s.fused());
-          }
-        } catch (...) {
-          std::lock_guard<std::mutex> lock(error_mutex);
-          if (!error) error = std::current_exception();
-          next = n_objects;
-          return;
-        }
-        const std::size_t d = ++done;
-        if (progress) {
-          std::lock_guard<std::mutex> lock(error_mutex);
-          progress(d, total);
-        }
+    LiveStopRule rule;
+    rule.confidence = 1.0;
+    std::mutex progress_mutex;
+    detail::parallel_for(static_cast<std::size_t>(n_objects), static_cast<unsigned>(cvs.threads),
+                         [&](std::size_t oi, unsigned) {
+      const auto o = static_cast<Index>(oi);
+      auto& idx = held[oi];
+      if (idx.empty()) return;
+      std::stable_sort(idx.begin(), idx.end(), [&](Index a, Index b) {
+        return table.frame[static_cast<std::size_t>(a)] < table.frame[static_cast<std::size_t>(b)];
+      });
+      LiveTrace& t = traces[oi];
+      t.fold = f;
+      t.object = o;
+      t.exploration = table.exploration[static_cast<std::size_t>(idx.front())];
+      t.available = static_cast<Index>(idx.size());
+      LiveSession s = refs.session(rule);
+      const Index n = std::min(settings.max_touches, t.available);
+      for (Index k = 0; k < n; ++k) {
+        const Index i = idx[static_cast<std::size_t>(k)];
+        const auto feature = table.touches.features.col(i);
+        s.add_touch(table.touches.positions.col(i), feature, refs.word(feature));
+        t.best.push_back(s.best());
+        t.confidence.push_back(s.confidence());
+        t.fused.push_back(s.fused());
       }
-    };
-    unsigned threads = cvs.threads > 0 ? static_cast<unsigned>(cvs.threads) : std::thread::hardware_concurrency();
-    threads = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(n_objects)));
-    std::vector<std::thread> pool;
-    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
-    worker();
-    for (auto& th : pool) th.join();
-    if (error) std::rethrow_exception(error);
+      const std::size_t d = ++done;
+      if (progress) {
+        std::lock_guard<std::mutex> lock(progress_mutex);
+        progress(d, total);
+      }
+    });
     for (auto& t : traces)
       if (!t.best.empty()) out.traces.push_back(std::move(t));
   }

@@ -8,14 +8,13 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <exception>
 #include <mutex>
 #include <set>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "iclap/core/error.hpp"
+#include "iclap/core/parallel.hpp"
 #include "iclap/core/progress.hpp"
 #include "iclap/core/random.hpp"
 #include "iclap/core/version.hpp"
@@ -114,39 +113,16 @@ inline Dataset simulate_dataset(const std::vector<SimObject>& objects, const Sim
   const std::size_t per = static_cast<std::size_t>(settings.explorations);
   const std::size_t jobs = objects.size() * per;
   std::vector<std::vector<Frame>> results(jobs);
-  std::atomic<std::size_t> next{0}, done{0};
+  std::atomic<std::size_t> done{0};
   std::mutex progress_mutex;
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto worker = [&] {
-    for (;;) {
-      const std::size_t j = next.fetch_add(1);
-      if (j >= jobs) return;
-      try {
-        results[j] = simulate_exploration(objects[j / per], settings, seed, static_cast<std::int64_t>(j % per));
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-        next = jobs;
-        return;
-      }
-      const std::size_t d = done.fetch_add(1) + 1;
-      if (progress) {
-        std::lock_guard<std::mutex> lock(progress_mutex);
-        progress(d, jobs);
-      }
+  detail::parallel_for(jobs, settings.threads, [&](std::size_t j, unsigned) {
+    results[j] = simulate_exploration(objects[j / per], settings, seed, static_cast<std::int64_t>(j % per));
+    const std::size_t d = done.fetch_add(1) + 1;
+    if (progress) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      progress(d, jobs);
     }
-  };
-  unsigned threads = settings.threads == 0 ? std::max(1u, std::thread::hardware_concurrency()) : settings.threads;
-  threads = static_cast<unsigned>(std::min<std::size_t>(threads, jobs));
-  if (threads <= 1) {
-    worker();
-  } else {
-    std::vector<std::thread> pool;
-    for (unsigned i = 0; i < threads; ++i) pool.emplace_back(worker);
-    for (auto& t : pool) t.join();
-  }
-  if (error) std::rethrow_exception(error);
+  });
   Dataset ds;
   ds.rows = settings.sensor.rows;
   ds.cols = settings.sensor.cols;

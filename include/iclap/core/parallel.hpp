@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace iclap::detail {
+
+/// Threads used for `count` items: `threads` (0: all cores), at most one per
+/// item, at least one.
+inline unsigned worker_count(unsigned threads, std::size_t count) {
+  const unsigned n = threads > 0 ? threads : std::thread::hardware_concurrency();
+  return std::max(1u, static_cast<unsigned>(std::min<std::size_t>(n, std::max<std::size_t>(1, count))));
+}
+
+/// Calls body(i, worker) for every i in [0, count), handed out one at a time
+/// to worker_count(threads, count) threads, the calling one included
+/// (worker < worker_count). After the first exception no new item starts,
+/// and it is rethrown once every thread has stopped. Items must write only
+/// their own state (or synchronise); results that depend only on i are then
+/// identical for any thread count.
+template <typename Body>
+void parallel_for(std::size_t count, unsigned threads, Body&& body) {
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  auto worker = [&](unsigned id) {
+    for (;;) {
+      const std::size_t i = next++;
+      if (i >= count) return;
+      try {
+        body(i, id);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next = count;
+        return;
+      }
+    }
+  };
+  const unsigned n = worker_count(threads, count);
+  std::vector<std::thread> pool;
+  for (unsigned id = 1; id < n; ++id) pool.emplace_back(worker, id);
+  worker(0);
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace iclap::detail
