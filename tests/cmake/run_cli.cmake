@@ -1,5 +1,5 @@
-# Runs one command and checks its exit status and output; used by the CLI
-# tests of the data and sim areas:
+# Runs one command and checks its exit status and output; the driver of
+# iclap_cli_test (tests/CMakeLists.txt):
 #   cmake -DCMD=prog@@arg1@@arg2 -DEXPECT_EXIT=2
 #         [-DSTDOUT_MATCHES=re1@@re2] [-DSTDERR_MATCHES=re1@@re2]
 #         [-DSTDERR_EMPTY=1] -P run_cli.cmake
