@@ -1,11 +1,16 @@
 // SPDX-License-Identifier: MIT
-// The small synthetic touch table the recognition tests share.
+// The small synthetic touch table and the classifiers the recognition
+// tests share.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
+#include <vector>
 
 #include "iclap/core/random.hpp"
+#include "iclap/recognition/bow_classifier.hpp"
+#include "iclap/recognition/registration_classifier.hpp"
 #include "iclap/recognition/touch_table.hpp"
 
 namespace iclap::test {
@@ -61,6 +66,18 @@ inline TouchTable synthetic_table(std::uint64_t seed, const SyntheticTableSettin
     }
   }
   return t;
+}
+
+/// The paper's three classifiers: bow, icp and iclap with a label axis of
+/// 0.01 (one word apart weighs as much as 1 cm, on objects 6-12 cm across).
+inline std::vector<std::unique_ptr<Classifier>> paper_classifiers() {
+  std::vector<std::unique_ptr<Classifier>> cs;
+  cs.push_back(std::make_unique<BowClassifier>());
+  cs.push_back(std::make_unique<IcpClassifier<float, Planar>>());
+  auto iclap = std::make_unique<IclapClassifier<float, Planar>>();
+  iclap->embedding.label_scale = 0.01;
+  cs.push_back(std::move(iclap));
+  return cs;
 }
 
 }  // namespace iclap::test

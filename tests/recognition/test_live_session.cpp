@@ -30,16 +30,6 @@ TouchTable synthetic_table(std::uint64_t seed, double feature_noise = 0.05) {
   return test::synthetic_table(seed, settings);
 }
 
-std::vector<std::unique_ptr<Classifier>> classifiers() {
-  std::vector<std::unique_ptr<Classifier>> cs;
-  cs.push_back(std::make_unique<BowClassifier>());
-  cs.push_back(std::make_unique<IcpClassifier<float, Planar>>());
-  auto iclap = std::make_unique<IclapClassifier<float, Planar>>();
-  iclap->embedding.label_scale = 0.01;
-  cs.push_back(std::move(iclap));
-  return cs;
-}
-
 KMeansQuantizer<float> codebook() {
   KMeansQuantizer<float> q;
   q.settings.k = 4;
@@ -67,7 +57,7 @@ TEST_CASE("live session: each update equals a from-scratch recognition of the sa
   std::vector<Index> held, train;
   split(t, 13, held, train);
   const Fusion fusion = parse_method("0.5*iclap+0.3*icp+0.2*bow").fusion;
-  const LiveReferences<> refs(t, train, classifiers, codebook(), fusion);
+  const LiveReferences<> refs(t, train, test::paper_classifiers, codebook(), fusion);
   REQUIRE(refs.objects() == t.objects);
   CHECK(refs.vocabulary() == 4);
   CHECK(refs.feature_length() == 4);
@@ -82,7 +72,7 @@ TEST_CASE("live session: each update equals a from-scratch recognition of the sa
   all.words = assign_words(q, t.touches.features);
   std::vector<TouchSet> objects;
   for (Index o = 0; o < 3; ++o) objects.push_back(select_touches(all, of_object(t, train, o)));
-  Recognizer scratch(classifiers());
+  Recognizer scratch(test::paper_classifiers());
   scratch.fit(objects, q.size());
 
   for (Index o = 0; o < 3; ++o) {
@@ -118,7 +108,7 @@ TEST_CASE("live session: the stop rule") {
   const TouchTable t = synthetic_table(2);
   std::vector<Index> held, train;
   split(t, 12, held, train);
-  const LiveReferences<> refs(t, train, classifiers, codebook(), parse_method("0.6*iclap+0.4*icp").fusion);
+  const LiveReferences<> refs(t, train, test::paper_classifiers, codebook(), parse_method("0.6*iclap+0.4*icp").fusion);
   const auto test = of_object(t, held, 1);
   auto add = [&](LiveSession& s, std::size_t k) {
     const Index i = test[k];
@@ -173,7 +163,7 @@ TEST_CASE("live session: empty state and errors") {
   const TouchTable t = synthetic_table(3);
   std::vector<Index> held, train;
   split(t, 10, held, train);
-  const LiveReferences<> refs(t, train, classifiers, codebook(), parse_method("0.5*icp+0.5*bow").fusion);
+  const LiveReferences<> refs(t, train, test::paper_classifiers, codebook(), parse_method("0.5*icp+0.5*bow").fusion);
   LiveSession s = refs.session(LiveStopRule{1.0, 1, 0});
   CHECK(s.touches() == 0);
   CHECK(s.best() == -1);
@@ -206,22 +196,22 @@ TEST_CASE("live session: empty state and errors") {
   // A fusion over a classifier the recogniser lacks; an unfitted recogniser.
   CHECK_THROWS_WITH_AS(LiveSession(refs.recognizer(), Fusion::classifier("iclapn")),
                        doctest::Contains("iclapn"), InvalidArgument);
-  Recognizer unfitted(classifiers());
+  Recognizer unfitted(test::paper_classifiers());
   CHECK_THROWS_WITH_AS(LiveSession(unfitted, Fusion::classifier("icp")), doctest::Contains("not fitted"),
                        InvalidArgument);
   // Min-max and z-score normalisation make the confidence meaningless.
   for (const Normalization n : {Normalization::MinMax, Normalization::ZScore})
-    CHECK_THROWS_WITH_AS(LiveReferences<>(t, train, classifiers, codebook(), Fusion::classifier("icp"), n).session(),
+    CHECK_THROWS_WITH_AS(LiveReferences<>(t, train, test::paper_classifiers, codebook(), Fusion::classifier("icp"), n).session(),
                          doctest::Contains("needs l2 normalisation"), InvalidArgument);
   // References: an object without training touches; an empty factory.
   std::vector<Index> no_ring;
   for (Index i : train)
     if (t.object[static_cast<std::size_t>(i)] != 1) no_ring.push_back(i);
-  CHECK_THROWS_WITH_AS(LiveReferences<>(t, no_ring, classifiers, codebook(), Fusion::classifier("icp")),
+  CHECK_THROWS_WITH_AS(LiveReferences<>(t, no_ring, test::paper_classifiers, codebook(), Fusion::classifier("icp")),
                        "table: object 'ring' has no training touch", InvalidArgument);
   CHECK_THROWS_AS(LiveReferences<>(t, train, ClassifierFactory{}, codebook(), Fusion::classifier("icp")),
                   InvalidArgument);
-  CHECK_THROWS_AS(LiveReferences<>(t, {t.size()}, classifiers, codebook(), Fusion::classifier("icp")),
+  CHECK_THROWS_AS(LiveReferences<>(t, {t.size()}, test::paper_classifiers, codebook(), Fusion::classifier("icp")),
                   InvalidArgument);
 }
 
@@ -233,13 +223,13 @@ TEST_CASE("live weights: fixed methods pass through, fitted ones come from the g
   s.weight_repeats = 2;
   s.threads = 2;
   const Method fixed = parse_method("0.3*icp+0.7*bow");
-  const LiveWeights w0 = choose_live_weights(t, classifiers, codebook(), fixed, s);
+  const LiveWeights w0 = choose_live_weights(t, test::paper_classifiers, codebook(), fixed, s);
   CHECK(w0.weights.empty());
   CHECK(w0.folds == 0);
   CHECK(w0.fusion.to_string() == "0.3*icp+0.7*bow");
 
   const Method fitted = parse_method("icp+bow");
-  const LiveWeights w = choose_live_weights(t, classifiers, codebook(), fitted, s);
+  const LiveWeights w = choose_live_weights(t, test::paper_classifiers, codebook(), fitted, s);
   REQUIRE(w.weights.size() == 2);
   CHECK(w.weights[0] + w.weights[1] == doctest::Approx(1.0));
   CHECK(w.weights[0] >= 0.5);  // the informative classifier weighs more
@@ -249,7 +239,7 @@ TEST_CASE("live weights: fixed methods pass through, fitted ones come from the g
   CHECK(w.fusion.to_string() == fitted.fusion.with_weights(w.weights).to_string());
   // Deterministic, whatever the thread count.
   s.threads = 1;
-  CHECK(choose_live_weights(t, classifiers, codebook(), fitted, s).weights == w.weights);
+  CHECK(choose_live_weights(t, test::paper_classifiers, codebook(), fitted, s).weights == w.weights);
   // The chosen vector is the best of the grid: no other fixed weights get
   // more of the same held-out tests right.
   std::vector<Method> grid;
@@ -257,7 +247,7 @@ TEST_CASE("live weights: fixed methods pass through, fitted ones come from the g
                                                              fitted.fusion.with_weights(g), false});
   s.repeats = s.weight_repeats;
   s.weight_sweeps = false;
-  const CrossValidationResult cv = CrossValidation<>(t, classifiers, codebook(), grid, s).run();
+  const CrossValidationResult cv = CrossValidation<>(t, test::paper_classifiers, codebook(), grid, s).run();
   for (const auto& m : cv.methods) {
     CAPTURE(m.name);
     CHECK(m.correct[0] + m.correct[1] <= w.correct);
@@ -267,7 +257,7 @@ TEST_CASE("live weights: fixed methods pass through, fitted ones come from the g
   for (Index i = 0; i < t.size(); ++i)
     if (t.exploration[static_cast<std::size_t>(i)] < 12) keep.push_back(i);
   const TouchTable two = t.select(keep);
-  CHECK(choose_live_weights(two, classifiers, codebook(), fitted, s).folds == 2);
+  CHECK(choose_live_weights(two, test::paper_classifiers, codebook(), fitted, s).folds == 2);
 }
 
 TEST_CASE("live evaluation: replays held-out explorations in time order, deterministic for any thread count") {
@@ -279,7 +269,7 @@ TEST_CASE("live evaluation: replays held-out explorations in time order, determi
   s.cross_validation.weight_repeats = 1;
   s.cross_validation.threads = 2;
   const Method method = parse_method("iclap+icp");
-  const LiveEvaluationResult r = evaluate_live_stopping(t, classifiers, codebook(), method, s);
+  const LiveEvaluationResult r = evaluate_live_stopping(t, test::paper_classifiers, codebook(), method, s);
   CHECK(r.folds == 4);
   REQUIRE(r.traces.size() == 12);
   REQUIRE(r.fold_expressions.size() == 4);
@@ -303,7 +293,7 @@ TEST_CASE("live evaluation: replays held-out explorations in time order, determi
     });
     const Fusion fold0 = method.fusion.with_weights(r.random_draws.methods[0].fold_weights[0]);
     CHECK(fold0.to_string() == r.fold_expressions[0]);
-    const LiveReferences<> refs(t, train, classifiers, codebook(), fold0);
+    const LiveReferences<> refs(t, train, test::paper_classifiers, codebook(), fold0);
     LiveSession sess = refs.session(LiveStopRule{1.0, 1, 0});
     for (std::size_t k = 0; k < 12; ++k) {
       const Index i = bar[k];
@@ -344,7 +334,7 @@ TEST_CASE("live evaluation: replays held-out explorations in time order, determi
   CHECK_THROWS_AS(r.fixed(13), InvalidArgument);
 
   s.cross_validation.threads = 1;
-  const LiveEvaluationResult r1 = evaluate_live_stopping(t, classifiers, codebook(), method, s);
+  const LiveEvaluationResult r1 = evaluate_live_stopping(t, test::paper_classifiers, codebook(), method, s);
   REQUIRE(r1.traces.size() == r.traces.size());
   for (std::size_t k = 0; k < r.traces.size(); ++k) {
     CHECK(r1.traces[k].best == r.traces[k].best);
@@ -353,14 +343,14 @@ TEST_CASE("live evaluation: replays held-out explorations in time order, determi
   CHECK(r1.fold_expressions == r.fold_expressions);
 
   s.max_touches = 0;
-  CHECK_THROWS_AS(evaluate_live_stopping(t, classifiers, codebook(), method, s), InvalidArgument);
+  CHECK_THROWS_AS(evaluate_live_stopping(t, test::paper_classifiers, codebook(), method, s), InvalidArgument);
   // Fitted weights need inner folds: 3 explorations of every object.
   s.max_touches = 4;
   std::vector<Index> keep;
   for (Index i = 0; i < t.size(); ++i)
     if (t.exploration[static_cast<std::size_t>(i)] < 12 || t.object[static_cast<std::size_t>(i)] != 2) keep.push_back(i);
   const TouchTable two = t.select(keep);
-  CHECK_THROWS_WITH_AS(evaluate_live_stopping(two, classifiers, codebook(), method, s),
+  CHECK_THROWS_WITH_AS(evaluate_live_stopping(two, test::paper_classifiers, codebook(), method, s),
                        doctest::Contains("'bar_hooked' has 2"), InvalidArgument);
-  CHECK(evaluate_live_stopping(two, classifiers, codebook(), parse_method("0.5*iclap+0.5*icp"), s).folds == 2);
+  CHECK(evaluate_live_stopping(two, test::paper_classifiers, codebook(), parse_method("0.5*iclap+0.5*icp"), s).folds == 2);
 }

@@ -17,13 +17,9 @@ namespace {
 
 using test::synthetic_table;  // 25 touches per exploration, in time order
 
+/// The paper's three and positions-plus-descriptor iCLAP.
 std::vector<std::unique_ptr<Classifier>> all_classifiers() {
-  std::vector<std::unique_ptr<Classifier>> cs;
-  cs.push_back(std::make_unique<BowClassifier>());
-  cs.push_back(std::make_unique<IcpClassifier<float, Planar>>());
-  auto iclap = std::make_unique<IclapClassifier<float, Planar>>();
-  iclap->embedding.label_scale = 0.01;
-  cs.push_back(std::move(iclap));
+  auto cs = test::paper_classifiers();
   cs.push_back(std::make_unique<IclapNClassifier<4, double, SpatialRigid>>());
   return cs;
 }
