@@ -44,6 +44,18 @@ std::vector<std::size_t> read_frames(WtsSensor& sensor, std::uint64_t seed, std:
   return seqs;
 }
 
+// A fake sensor on a pty, opened and streaming one frame per 5 ms, as an
+// application starts it (matrix info, then periodic frames).
+struct StreamingFake {
+  PtyFakeSensor fake;
+  SerialPort port;
+  WtsSensor sensor;
+  explicit StreamingFake(const FakeSensorScript& script) : fake(script), port(fake.path()), sensor(port) {
+    sensor.query_matrix_info();
+    sensor.start_periodic_frames(5.0);
+  }
+};
+
 std::string temp_path(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("iclap_rig_" + std::to_string(::getpid()) + "_" + name)).string();
 }
@@ -126,11 +138,9 @@ TEST_CASE("Serial session: junk and corrupted frames are dropped, every intact f
   script.corrupt_every = 4;
   script.junk_every = 3;
   script.seed = 11;
-  PtyFakeSensor fake(script);
-  SerialPort port(fake.path());
-  WtsSensor sensor(port);
-  sensor.query_matrix_info();
-  sensor.start_periodic_frames(5.0);
+  StreamingFake session(script);
+  auto& fake = session.fake;
+  auto& sensor = session.sensor;
   const auto seqs = read_frames(sensor, script.seed);
   CHECK(seqs == fake.intact());
   CHECK(fake.intact().size() == 45);
@@ -145,11 +155,9 @@ TEST_CASE("Serial session: an unplug ends the stream with DeviceLost after every
   script.unplug_after = 25;
   script.corrupt_every = 5;
   script.junk_every = 2;
-  PtyFakeSensor fake(script);
-  SerialPort port(fake.path());
-  WtsSensor sensor(port);
-  sensor.query_matrix_info();
-  sensor.start_periodic_frames(5.0);
+  StreamingFake session(script);
+  auto& fake = session.fake;
+  auto& sensor = session.sensor;
   std::vector<std::size_t> seqs;
   bool lost = false;
   const auto start = std::chrono::steady_clock::now();
