@@ -1,15 +1,21 @@
 // SPDX-License-Identifier: MIT
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <stdexcept>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "iclap/core/check.hpp"
 #include "iclap/core/error.hpp"
+#include "iclap/core/parallel.hpp"
+#include "iclap/core/progress.hpp"
 #include "iclap/core/random.hpp"
 #include "iclap/io/atomic_file.hpp"
 
@@ -110,4 +116,33 @@ TEST_CASE("AtomicFileWriter: all or nothing") {
   CHECK(ss2.str() == "complete\n");  // the old file is untouched
   std::remove(path.c_str());
   CHECK_THROWS_AS(AtomicFileWriter("/nonexistent-dir/x.txt"), IoError);
+}
+
+TEST_CASE("parallel_for visits every item once; ProgressCounter reports them one at a time, in order") {
+  for (unsigned threads : {1u, 2u, 4u}) {
+    CAPTURE(threads);
+    const std::size_t n = 1000;
+    std::vector<int> visits(n, 0);
+    std::vector<unsigned> worker_of(n, 0);
+    std::vector<std::pair<std::size_t, std::size_t>> calls;  // written only under the counter's lock
+    ProgressCounter counter([&](std::size_t done, std::size_t total) { calls.emplace_back(done, total); }, n);
+    detail::parallel_for(n, threads, [&](std::size_t i, unsigned worker) {
+      ++visits[i];
+      worker_of[i] = worker;
+      counter.tick();
+    });
+    CHECK(std::count(visits.begin(), visits.end(), 1) == static_cast<std::ptrdiff_t>(n));
+    CHECK(*std::max_element(worker_of.begin(), worker_of.end()) < detail::worker_count(threads, n));
+    REQUIRE(calls.size() == n);
+    for (std::size_t k = 0; k < n; ++k) CHECK(calls[k] == std::make_pair(k + 1, n));
+  }
+  ProgressCounter silent(ProgressCallback{}, 3);
+  silent.tick();  // no callback: nothing to report, no error
+  CHECK(detail::worker_count(4, 2) == 2);
+  CHECK(detail::worker_count(3, 0) == 1);
+  CHECK_THROWS_AS(detail::parallel_for(100, 2,
+                                       [](std::size_t i, unsigned) {
+                                         if (i == 7) throw std::runtime_error("item 7");
+                                       }),
+                  std::runtime_error);
 }

@@ -2,7 +2,6 @@
 #pragma once
 
 #include <algorithm>
-#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -209,11 +208,7 @@ class CrossValidation {
         for (int g = 0; g < folds_; ++g)
           if (g != f) total_sets += draws_count(g, settings_.weight_repeats);
     }
-    std::atomic<std::size_t> done{0};
-    auto tick = [&] {
-      const std::size_t d = ++done;
-      if (progress) progress(d, total_sets);
-    };
+    ProgressCounter counter(progress, total_sets);
 
     for (int f = 0; f < folds_; ++f) {
       // Codebook from the training touches only.
@@ -242,7 +237,7 @@ class CrossValidation {
             if (exploration_rank(i) != g) inner_train.push_back(i);
           Recognizer rec = fitted_recognizer(all, inner_train, k);
           auto draws = make_draws(f, g, settings_.weight_repeats, result);
-          inner_tables.push_back(compute(rec, all, draws, fitted_classifiers_, tick));
+          inner_tables.push_back(compute(rec, all, draws, fitted_classifiers_, counter));
           inner_draws.push_back(std::move(draws));
         }
         parallel_for(chosen.size(), [&](std::size_t mi, unsigned) {
@@ -254,7 +249,7 @@ class CrossValidation {
       Recognizer rec = fitted_recognizer(all, train, k);
       const auto draws = make_draws(f, -1, settings_.repeats, result);
       std::vector<double> seconds;
-      const auto tables = compute(rec, all, draws, {}, tick, &seconds);
+      const auto tables = compute(rec, all, draws, {}, counter, &seconds);
       result.classifiers = rec.classifier_names();
       result.classifier_seconds.resize(seconds.size(), 0.0);
       for (std::size_t c = 0; c < seconds.size(); ++c) result.classifier_seconds[c] += seconds[c];
@@ -374,16 +369,15 @@ class CrossValidation {
 
   /// Normalised distances of every draw, in parallel; identical for any
   /// thread count (each draw is computed independently).
-  template <typename Tick>
   std::vector<DistanceTable> compute(const Recognizer& rec, const TouchSet& all, const std::vector<Draw>& draws,
-                                     const std::vector<std::string>& only, Tick& tick,
+                                     const std::vector<std::string>& only, ProgressCounter& progress,
                                      std::vector<double>* seconds = nullptr) const {
     std::vector<DistanceTable> tables(draws.size());
     std::vector<std::vector<double>> worker_seconds(worker_count(draws.size()));
     parallel_for(draws.size(), [&](std::size_t d, unsigned worker) {
       tables[d] = rec.distances(select_touches(all, draws[d].touches), only,
                                 seconds ? &worker_seconds[worker] : nullptr);
-      tick();
+      progress.tick();
     });
     if (seconds) {
       seconds->assign(rec.classifiers().size(), 0.0);

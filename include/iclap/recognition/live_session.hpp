@@ -19,11 +19,9 @@
 ///    in time order and measures the stop rule against fixed touch counts.
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <memory>
-#include <mutex>
 #include <numeric>
 #include <string>
 #include <utility>
@@ -562,7 +560,7 @@ LiveEvaluationResult evaluate_live_stopping(const TouchTable& table, const Class
   std::size_t total = 0;
   for (int f = 0; f < out.folds; ++f)
     for (Index o = 0; o < n_objects; ++o) total += static_cast<std::size_t>(f) < ids[static_cast<std::size_t>(o)].size();
-  std::atomic<std::size_t> done{0};
+  ProgressCounter counter(progress, total);
 
   for (int f = 0; f < out.folds; ++f) {
     const Fusion fusion = method.fit_weights ? method.fusion.with_weights(mr.fold_weights.at(static_cast<std::size_t>(f)))
@@ -578,7 +576,6 @@ LiveEvaluationResult evaluate_live_stopping(const TouchTable& table, const Class
     std::vector<LiveTrace> traces(static_cast<std::size_t>(n_objects));
     LiveStopRule rule;
     rule.confidence = 1.0;
-    std::mutex progress_mutex;
     detail::parallel_for(static_cast<std::size_t>(n_objects), static_cast<unsigned>(cvs.threads),
                          [&](std::size_t oi, unsigned) {
       const auto o = static_cast<Index>(oi);
@@ -602,11 +599,7 @@ LiveEvaluationResult evaluate_live_stopping(const TouchTable& table, const Class
         t.confidence.push_back(s.confidence());
         t.fused.push_back(s.fused());
       }
-      const std::size_t d = ++done;
-      if (progress) {
-        std::lock_guard<std::mutex> lock(progress_mutex);
-        progress(d, total);
-      }
+      counter.tick();
     });
     for (auto& t : traces)
       if (!t.best.empty()) out.traces.push_back(std::move(t));

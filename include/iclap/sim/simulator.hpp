@@ -5,10 +5,8 @@
 // would write them, from one seed.
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <mutex>
 #include <set>
 #include <string>
 #include <vector>
@@ -113,15 +111,10 @@ inline Dataset simulate_dataset(const std::vector<SimObject>& objects, const Sim
   const std::size_t per = static_cast<std::size_t>(settings.explorations);
   const std::size_t jobs = objects.size() * per;
   std::vector<std::vector<Frame>> results(jobs);
-  std::atomic<std::size_t> done{0};
-  std::mutex progress_mutex;
+  ProgressCounter counter(progress, jobs);
   detail::parallel_for(jobs, settings.threads, [&](std::size_t j, unsigned) {
     results[j] = simulate_exploration(objects[j / per], settings, seed, static_cast<std::int64_t>(j % per));
-    const std::size_t d = done.fetch_add(1) + 1;
-    if (progress) {
-      std::lock_guard<std::mutex> lock(progress_mutex);
-      progress(d, jobs);
-    }
+    counter.tick();
   });
   Dataset ds;
   ds.rows = settings.sensor.rows;
