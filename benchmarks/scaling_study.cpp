@@ -17,7 +17,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
-#include <ctime>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -28,6 +27,7 @@
 #include "iclap/sim/builtin_objects.hpp"
 #include "iclap/sim/simulator.hpp"
 #include "iclap/tactile/tactile_sift.hpp"
+#include "cpu_time.hpp"
 #include "csv_field.hpp"
 #include "held_out.hpp"
 
@@ -51,13 +51,6 @@ std::vector<SimObject> objects(std::size_t n) {
     out.push_back(make_sim_object(b.name + "_v" + std::to_string(i / base.size()), std::move(m), false));
   }
   return out;
-}
-
-/// CPU time of the calling thread, in seconds.
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 double median(std::vector<double> v) {
@@ -158,14 +151,14 @@ int main(int argc, char** argv) {
         correct = 0;
         m.registrations = 0;
         decisions.clear();
-        const double t0 = thread_cpu_seconds();
+        const double t0 = bench::thread_cpu_seconds();
         for (const auto& [truth, test] : tests) {
           const PrunedDecision d = c.decide(test, p);
           correct += d.object == truth;
           decisions.push_back(d.object);
           m.registrations += static_cast<double>(d.completed);
         }
-        const double dt = thread_cpu_seconds() - t0;
+        const double dt = bench::thread_cpu_seconds() - t0;
         spent += dt;
         pass_ms.push_back(1e3 * dt / static_cast<double>(tests.size()));
       }

@@ -267,9 +267,9 @@ int main(int argc, char** argv) {
     AtomicFileWriter w(out + "/trade_study.csv");
     w.stream() << "group,setting,rate5,rate10,rate20,mean_rate,ms_per_recognition,pareto\n";
     for (std::size_t i = 0; i < rows.size(); ++i)
-      w.stream() << bench::csv_field(rows[i].setting->group) << "," << bench::csv_field(rows[i].setting->name) << "," << rows[i].rate[0] << ","
-                 << rows[i].rate[1] << "," << rows[i].rate[2] << "," << rows[i].accuracy() << "," << rows[i].ms << ","
-                 << (front[i] ? 1 : 0) << "\n";
+      w.stream() << bench::csv_field(rows[i].setting->group) << "," << bench::csv_field(rows[i].setting->name) << ","
+                 << rows[i].rate[0] << "," << rows[i].rate[1] << "," << rows[i].rate[2] << "," << rows[i].accuracy()
+                 << "," << rows[i].ms << "," << (front[i] ? 1 : 0) << "\n";
     w.commit();
   }
   cli::Plot p;

@@ -7,13 +7,13 @@
 // the positions a forced-iteration ICP run asks.
 
 #include <cstdint>
-#include <ctime>
 #include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 #include <nanoflann.hpp>
 
+#include "../cpu_time.hpp"
 #include "registration_problem.hpp"
 #include "iclap/registration/registration.hpp"
 #include "iclap/search/kdtree.hpp"
@@ -99,14 +99,6 @@ std::uint64_t run_rounds(const std::vector<Cloud<Scalar, Dim>>& rounds, const Ne
   for (const auto& q : rounds)
     for (Index j = 0; j < q.cols(); ++j) sum += static_cast<std::uint64_t>(nearest(q.col(j).data()));
   return sum;
-}
-
-/// CPU time of the calling thread in seconds: unlike wall time it does not
-/// count the time the thread waits for a core on a loaded machine.
-inline double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 }  // namespace iclap::bench
