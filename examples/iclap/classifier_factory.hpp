@@ -18,7 +18,9 @@ namespace iclap::cli {
 template <typename IcpType>
 void configure_icp(IcpType& icp, const RecognitionOptions& o) {
   icp.termination.max_iterations = o.max_iterations;
-  icp.termination.relative_tolerance = static_cast<typename IcpType::Transform::Vector::Scalar>(o.relative_tolerance);
+  using Scalar = typename IcpType::Transform::Vector::Scalar;
+  icp.termination.relative_tolerance = static_cast<Scalar>(o.relative_tolerance);
+  icp.rejection.trim_fraction = static_cast<Scalar>(o.trim);
 }
 
 template <typename Scalar, typename Model, template <typename, int> class Search>

@@ -383,9 +383,9 @@ int run_evaluate(const Args& args) {
   std::printf("%zu objects, %zu frames, %ld touches (contact threshold %g), %d folds (one exploration of every object held out)\n",
               table.objects.size(), dataset.frames.size(), static_cast<long>(table.size()), ro.contact_threshold,
               cv.folds());
-  std::printf("descriptor %s, k = %ld, transform %s, label scale %g m/word, %s ICP (%s), %d draws per case, seed %llu, %u threads\n\n",
+  std::printf("descriptor %s, k = %ld, transform %s, label scale %g m/word, %s ICP (%s; %s), %d draws per case, seed %llu, %u threads\n\n",
               ro.descriptor.c_str(), static_cast<long>(ro.k), ro.transform.c_str(), ro.label_scale, ro.scalar.c_str(),
-              ro.search.c_str(), s.repeats, static_cast<unsigned long long>(s.seed), threads);
+              ro.search.c_str(), ro.icp_summary().c_str(), s.repeats, static_cast<unsigned long long>(s.seed), threads);
   std::fflush(stdout);
   CrossValidationResult r;
   {

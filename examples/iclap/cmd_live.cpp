@@ -205,9 +205,9 @@ int run_cross_validation(const Options& o, const Setup& setup, const std::string
   std::printf("iclap %s live --cross-validate\ndataset: %s: %zu objects, %zu frames, %ld touches (contact threshold %g)\n",
               ICLAP_VERSION_STRING, path.c_str(), table.objects.size(), dataset.frames.size(),
               static_cast<long>(table.size()), setup.ro.contact_threshold);
-  std::printf("method: %s; descriptor %s, k = %ld, transform %s, %s normalisation, seed %llu\n",
+  std::printf("method: %s; descriptor %s, k = %ld, transform %s, ICP %s, %s normalisation, seed %llu\n",
               setup.method.name.c_str(), setup.ro.descriptor.c_str(), static_cast<long>(setup.ro.k),
-              setup.ro.transform.c_str(), to_string(s.cross_validation.normalization),
+              setup.ro.transform.c_str(), setup.ro.icp_summary().c_str(), to_string(s.cross_validation.normalization),
               static_cast<unsigned long long>(s.cross_validation.seed));
   std::fflush(stdout);
   const auto t0 = std::chrono::steady_clock::now();

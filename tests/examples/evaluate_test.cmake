@@ -58,3 +58,14 @@ file(READ ${WORK_DIR}/other/confusion.csv b)
 if(a STREQUAL b)
   message(FATAL_ERROR "seed 8 gave the same confusion counts as seed 7")
 endif()
+# Trimmed ICP (--trim): reported with the ICP settings; the untrimmed run
+# reports every pair.
+expect_match("${printed}" "ICP \\(kdtree; at most 50 iterations, relative tolerance 1e-06, every pair\\)")
+run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods icp,iclap --touches 5 --repeats 3 --seed 7 --trim 0.5
+    --out ${WORK_DIR}/trimmed)
+expect_match("${out}" "ICP \\(kdtree; at most 50 iterations, relative tolerance 1e-06, the closest 50% of the pairs \\(trimmed\\)\\)")
+file(STRINGS ${WORK_DIR}/trimmed/results.csv lines)
+list(LENGTH lines n)
+if(NOT n EQUAL 3)
+  message(FATAL_ERROR "trimmed results.csv has ${n} lines, expected 1 + 2 methods x 1 touch count")
+endif()
