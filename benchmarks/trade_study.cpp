@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -117,12 +118,13 @@ std::vector<Setting> grid() {
                    return std::unique_ptr<Classifier>(std::move(c));
                  }});
   // Contact patches (beyond the paper): every pressed taxel a point.
-  auto patch = [](Index per_touch, double voxel, int max_iterations) {
+  auto patch = [](Index per_touch, double voxel, int max_iterations, float trim = 1) {
     return [=]() -> std::unique_ptr<Classifier> {
       auto c = std::make_unique<PatchClassifier<float, Planar>>();
       c->embedding.test_points_per_touch = per_touch;
       c->embedding.reference_voxel = voxel;
       configure(*c, max_iterations);
+      c->icp.rejection.trim_fraction = trim;
       return c;
     };
   };
@@ -132,6 +134,14 @@ std::vector<Setting> grid() {
   s.push_back({"contact patch", "patch ICP, 16 pts/touch, 1 mm voxel", "sift", 50, patch(16, 0.001, 50)});
   s.push_back({"contact patch", "iCLAP patch, 8 pts/touch, 2 mm voxel", "sift", 50,
                [] { return std::unique_ptr<Classifier>(std::make_unique<IclapPatchClassifier<float, Planar>>()); }});
+  // Trimmed ICP (Chetverikov et al.): the motion and the distance use the
+  // closest fraction of the pairs.
+  for (float f : {0.7f, 0.5f, 0.3f})
+    s.push_back({"trimmed", "iCLAP, closest " + std::to_string(static_cast<int>(std::lround(100 * f))) + "% of pairs",
+                 "sift", 50, iclap([f](auto& c) { c.icp.rejection.trim_fraction = f; })});
+  s.push_back({"trimmed", "patch ICP (default), closest 50% of pairs", "sift", 50, patch(8, 0.002, 50, 0.5f)});
+  s.push_back({"trimmed", "patch ICP, 4 pts, 4 mm, max-it 10, 50%", "sift", 50, patch(4, 0.004, 10, 0.5f)});
+  s.push_back({"trimmed", "patch ICP, 16 pts, 1 mm voxel, 50%", "sift", 50, patch(16, 0.001, 50, 0.5f)});
   s.push_back({"multi-start", "yaw -15,0,15", "sift", 50,
                iclap([](auto& c) { c.yaw_starts_deg = {-15, 0, 15}; })});
   s.push_back({"multi-start", "yaw -30..30 step 15", "sift", 50,

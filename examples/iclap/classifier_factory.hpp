@@ -16,43 +16,43 @@
 namespace iclap::cli {
 
 template <typename IcpType>
-void configure_icp(IcpType& icp, const RecognitionOptions& o) {
+void configure_icp(IcpType& icp, const RecognitionOptions& o, const std::string& name) {
   icp.termination.max_iterations = o.max_iterations;
   using Scalar = typename IcpType::Transform::Vector::Scalar;
   icp.termination.relative_tolerance = static_cast<Scalar>(o.relative_tolerance);
-  icp.rejection.trim_fraction = static_cast<Scalar>(o.trim);
+  icp.rejection.trim_fraction = static_cast<Scalar>(o.trim_of(name));
 }
 
 template <typename Scalar, typename Model, template <typename, int> class Search>
 std::unique_ptr<Classifier> make_registration_classifier(const std::string& name, const RecognitionOptions& o) {
   if (name == "icp") {
     auto c = std::make_unique<IcpClassifier<Scalar, Model, Search<Scalar, 3>>>();
-    configure_icp(c->icp, o);
+    configure_icp(c->icp, o, name);
     return c;
   }
   if (name == "iclap") {
     auto c = std::make_unique<IclapClassifier<Scalar, Model, Search<Scalar, 4>>>();
-    configure_icp(c->icp, o);
+    configure_icp(c->icp, o, name);
     c->embedding.label_scale = o.label_scale;
     return c;
   }
   if (name == "patch") {
     auto c = std::make_unique<PatchClassifier<Scalar, Model, Search<Scalar, 3>>>();
-    configure_icp(c->icp, o);
+    configure_icp(c->icp, o, name);
     c->embedding.test_points_per_touch = o.patch_points;
     c->embedding.reference_voxel = o.patch_voxel;
     return c;
   }
   if (name == "iclap_patch") {
     auto c = std::make_unique<IclapPatchClassifier<Scalar, Model, Search<Scalar, 4>>>();
-    configure_icp(c->icp, o);
+    configure_icp(c->icp, o, name);
     c->embedding.label_scale = o.label_scale;
     c->embedding.test_points_per_touch = o.patch_points;
     c->embedding.reference_voxel = o.patch_voxel;
     return c;
   }
   auto c = std::make_unique<IclapNClassifier<Eigen::Dynamic, Scalar, Model, Search<Scalar, Eigen::Dynamic>>>();
-  configure_icp(c->icp, o);
+  configure_icp(c->icp, o, name);
   c->embedding.descriptor_scale = o.descriptor_scale;
   return c;
 }

@@ -385,7 +385,7 @@ int run_evaluate(const Args& args) {
               cv.folds());
   std::printf("descriptor %s, k = %ld, transform %s, label scale %g m/word, %s ICP (%s; %s), %d draws per case, seed %llu, %u threads\n\n",
               ro.descriptor.c_str(), static_cast<long>(ro.k), ro.transform.c_str(), ro.label_scale, ro.scalar.c_str(),
-              ro.search.c_str(), ro.icp_summary().c_str(), s.repeats, static_cast<unsigned long long>(s.seed), threads);
+              ro.search.c_str(), ro.icp_summary(needed).c_str(), s.repeats, static_cast<unsigned long long>(s.seed), threads);
   std::fflush(stdout);
   CrossValidationResult r;
   {

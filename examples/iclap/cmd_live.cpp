@@ -207,7 +207,7 @@ int run_cross_validation(const Options& o, const Setup& setup, const std::string
               static_cast<long>(table.size()), setup.ro.contact_threshold);
   std::printf("method: %s; descriptor %s, k = %ld, transform %s, ICP %s, %s normalisation, seed %llu\n",
               setup.method.name.c_str(), setup.ro.descriptor.c_str(), static_cast<long>(setup.ro.k),
-              setup.ro.transform.c_str(), setup.ro.icp_summary().c_str(), to_string(s.cross_validation.normalization),
+              setup.ro.transform.c_str(), setup.ro.icp_summary(needed_classifiers({setup.method})).c_str(), to_string(s.cross_validation.normalization),
               static_cast<unsigned long long>(s.cross_validation.seed));
   std::fflush(stdout);
   const auto t0 = std::chrono::steady_clock::now();

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -22,6 +24,19 @@
 
 namespace iclap::cli {
 
+/// "a, b, c".
+inline std::string comma_list(const std::vector<std::string>& names) {
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  return list;
+}
+
+/// The classifiers that register (every one but bow), in build order.
+inline const std::vector<std::string>& registration_classifiers() {
+  static const std::vector<std::string> names = {"icp", "iclap", "iclapn", "patch", "iclap_patch"};
+  return names;
+}
+
 struct RecognitionOptions {
   std::string descriptor = "sift";   ///< sift | raw | moments
   std::string transform = "planar";  ///< full | spatial | planar | translation
@@ -33,25 +48,37 @@ struct RecognitionOptions {
   double descriptor_scale = 0.01;    ///< metres per descriptor unit (iCLAP-N)
   int max_iterations = 50;
   double relative_tolerance = 1e-6;
-  /// Trimmed ICP in every registration classifier: the motion and the
-  /// distance use the closest fraction of the pairs (1: all, the paper's).
+  /// Trimmed ICP (Chetverikov et al.): the motion and the distance use the
+  /// closest fraction of the pairs; 1 keeps all, the paper's plain ICP.
+  /// `trim` applies to every registration classifier not in `trim_by_name`.
   /// No distance cut-off is offered: E sums the kept pairs, so an object
   /// that kept fewer would look closer; with trimming every object keeps
   /// the same number.
   double trim = 1;
+  std::map<std::string, double> trim_by_name;  ///< e.g. {"patch", 0.5}
   double contact_threshold = kDefaultContactThreshold;
   Index patch_points = 8;            ///< contact points per test touch (patch classifiers)
   double patch_voxel = 0.002;        ///< reference voxel, metres (patch classifiers)
 
-  /// The ICP settings as the reports print them, e.g. "at most 50
-  /// iterations, relative tolerance 1e-06, every pair".
-  std::string icp_summary() const {
+  /// The trimmed fraction of classifier `name`.
+  double trim_of(const std::string& name) const {
+    const auto it = trim_by_name.find(name);
+    return it == trim_by_name.end() ? trim : it->second;
+  }
+
+  /// The ICP settings of the registration classifiers among `names` as the
+  /// reports print them: "at most 50 iterations, relative tolerance 1e-06;
+  /// every pair" or "...; trimmed: patch 50%, iclap_patch 70%".
+  std::string icp_summary(const std::vector<std::string>& names) const {
     char buf[160];
-    std::snprintf(buf, sizeof buf, "at most %d iterations, relative tolerance %g, ", max_iterations, relative_tolerance);
-    std::string out = buf;
-    if (trim == 1) return out + "every pair";
-    std::snprintf(buf, sizeof buf, "the closest %g%% of the pairs (trimmed)", 100 * trim);
-    return out + buf;
+    std::snprintf(buf, sizeof buf, "at most %d iterations, relative tolerance %g; ", max_iterations, relative_tolerance);
+    std::string out = buf, trimmed;
+    for (const auto& n : names)
+      if (n != "bow" && trim_of(n) < 1) {
+        std::snprintf(buf, sizeof buf, "%s%s %g%%", trimmed.empty() ? "" : ", ", n.c_str(), 100 * trim_of(n));
+        trimmed += buf;
+      }
+    return out + (trimmed.empty() ? "every pair" : "trimmed: " + trimmed);
   }
 
   /// The option names `parse` reads (value options).
@@ -73,8 +100,10 @@ struct RecognitionOptions {
            "  --search kdtree|brute   closest-point search (default kdtree)\n"
            "  --max-iterations N      ICP iteration cap (default 50)\n"
            "  --relative-tolerance R  ICP relative-change stop (default 1e-6)\n"
-           "  --trim F                trimmed ICP: the distance and the motion use the closest\n"
-           "                          fraction F of the pairs, in (0, 1] (default 1: all, the paper's)\n"
+           "  --trim F|NAME=F,...     trimmed ICP: the distance and the motion use the closest\n"
+           "                          fraction F of the pairs, in (0, 1]; F alone for every\n"
+           "                          registration classifier, NAME=F for one (e.g. patch=0.5);\n"
+           "                          default 1: all pairs, the paper's\n"
            "  --contact-threshold P   a frame is a touch when a taxel exceeds P raw units\n"
            "  --patch-points N        contact points per test touch for patch, iclap_patch (default 8)\n"
            "  --patch-voxel V         reference voxel for patch, iclap_patch, metres (default 0.002)\n";
@@ -91,11 +120,35 @@ struct RecognitionOptions {
     if (!(descriptor_scale > 0)) throw UsageError("--descriptor-scale must be > 0");
     max_iterations = static_cast<int>(o.integer("max-iterations", max_iterations, 0, 100000));
     relative_tolerance = o.number("relative-tolerance", relative_tolerance, 0.0);
-    trim = o.number("trim", trim);
-    if (!(trim > 0 && trim <= 1)) throw UsageError("--trim must be in (0, 1], got " + o.string("trim"));
+    if (o.has("trim")) parse_trim(o.string("trim"));
     contact_threshold = o.number("contact-threshold", contact_threshold, 0.0);
     patch_points = static_cast<Index>(o.integer("patch-points", patch_points, 1, 84 * 100));
     patch_voxel = o.number("patch-voxel", patch_voxel, 0.0, 1.0);
+  }
+
+  /// "--trim": "F" for every registration classifier, "NAME=F" for one;
+  /// comma-separated, each name at most once.
+  void parse_trim(const std::string& value) {
+    bool all_given = false;
+    for (const auto& item : Options::split(value, ',')) {
+      const auto eq = item.find('=');
+      const std::string name = eq == std::string::npos ? "" : item.substr(0, eq);
+      const std::string text = eq == std::string::npos ? item : item.substr(eq + 1);
+      const double f = Options::parse_number(text, "--trim " + item, -std::numeric_limits<double>::infinity(),
+                                             std::numeric_limits<double>::infinity());
+      if (!(f > 0 && f <= 1)) throw UsageError("--trim " + item + ": the fraction must be in (0, 1]");
+      if (name.empty()) {
+        if (all_given) throw UsageError("--trim gives the fraction of every classifier twice");
+        trim = f;
+        all_given = true;
+        continue;
+      }
+      const auto& known = registration_classifiers();
+      if (std::find(known.begin(), known.end(), name) == known.end())
+        throw UsageError("--trim " + item + ": '" + name + "' is not a registration classifier (" +
+                         comma_list(known) + ")");
+      if (!trim_by_name.emplace(name, f).second) throw UsageError("--trim names '" + name + "' twice");
+    }
   }
 };
 
@@ -107,7 +160,11 @@ std::vector<std::unique_ptr<Classifier>> make_classifiers(const RecognitionOptio
 
 /// Every classifier name the commands know, in the order they are built.
 inline const std::vector<std::string>& known_classifiers() {
-  static const std::vector<std::string> names = {"bow", "icp", "iclap", "iclapn", "patch", "iclap_patch"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n = {"bow"};
+    for (const auto& r : registration_classifiers()) n.push_back(r);
+    return n;
+  }();
   return names;
 }
 
@@ -118,11 +175,9 @@ inline std::vector<std::string> needed_classifiers(const std::vector<Method>& me
   std::vector<std::string> out;
   for (const auto& m : methods)
     for (const auto& c : m.fusion.classifiers())
-      if (std::find(known.begin(), known.end(), c) == known.end()) {
-        std::string list;
-        for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-        throw UsageError("method '" + m.name + "' uses unknown classifier '" + c + "' (known: " + list + ")");
-      }
+      if (std::find(known.begin(), known.end(), c) == known.end())
+        throw UsageError("method '" + m.name + "' uses unknown classifier '" + c + "' (known: " + comma_list(known) +
+                         ")");
   for (const auto& k : known)
     for (const auto& m : methods) {
       const auto used = m.fusion.classifiers();

@@ -60,10 +60,10 @@ if(a STREQUAL b)
 endif()
 # Trimmed ICP (--trim): reported with the ICP settings; the untrimmed run
 # reports every pair.
-expect_match("${printed}" "ICP \\(kdtree; at most 50 iterations, relative tolerance 1e-06, every pair\\)")
-run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods icp,iclap --touches 5 --repeats 3 --seed 7 --trim 0.5
+expect_match("${printed}" "ICP \\(kdtree; at most 50 iterations, relative tolerance 1e-06; every pair\\)")
+run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods icp,iclap --touches 5 --repeats 3 --seed 7 --trim 0.5,iclap=0.7
     --out ${WORK_DIR}/trimmed)
-expect_match("${out}" "ICP \\(kdtree; at most 50 iterations, relative tolerance 1e-06, the closest 50% of the pairs \\(trimmed\\)\\)")
+expect_match("${out}" "ICP \\(kdtree; at most 50 iterations, relative tolerance 1e-06; trimmed: icp 50%, iclap 70%\\)")
 file(STRINGS ${WORK_DIR}/trimmed/results.csv lines)
 list(LENGTH lines n)
 if(NOT n EQUAL 3)
