@@ -66,6 +66,18 @@ TEST_CASE("lower bounds never exceed the final errors") {
     icp.distances(test, d);
     const Eigen::VectorXd lb3 = icp.lower_bounds(test);
     for (Index j = 0; j < 12; ++j) CHECK(lb3(j) <= d(j) * (1 + 1e-5) + 1e-12);
+    // Trimmed: the smallest per-point bounds, as many as pairs are kept.
+    for (double fraction : {0.25, 0.5, 0.9}) {
+      IclapClassifier<double, Planar> trimmed = iclap;
+      trimmed.icp.rejection.trim_fraction = fraction;
+      trimmed.distances(test, d);
+      const Eigen::VectorXd lbt = trimmed.lower_bounds(test);
+      for (Index j = 0; j < 12; ++j) {
+        CHECK(lbt(j) <= d(j) * (1 + 1e-9) + 1e-15);
+        CHECK(lbt(j) <= lb(j));
+      }
+      CHECK(lbt.maxCoeff() > 0);
+    }
   }
   // A model that moves every coordinate leaves nothing to bound.
   IclapClassifier<double, FullRigid> full;
@@ -96,11 +108,28 @@ TEST_CASE("bound pruning gives exactly the decisions of the full registration, w
   }
   CHECK(pruned > completed);  // most registrations are skipped on this scene
   CHECK(correct > static_cast<int>(sc.tests.size()) / 10);  // well above chance (1/30)
-  // With rejection the bound is not valid and is not used.
+  // Trimmed ICP keeps an exact bound.
   IclapClassifier<float, Planar> trimmed = c;
-  trimmed.icp.rejection.trim_fraction = 0.8f;
+  trimmed.icp.rejection.trim_fraction = 0.5f;
   trimmed.fit(sc.objects, 4);
-  const PrunedDecision t = trimmed.decide(sc.tests[0].second, {PruningSettings::Schedule::Bound});
+  Index trimmed_pruned = 0;
+  for (const auto& [truth, test] : sc.tests) {
+    (void)truth;
+    Eigen::VectorXd d(30);
+    trimmed.distances(test, d);
+    const PrunedDecision full = trimmed.decide(test, {PruningSettings::Schedule::None});
+    const PrunedDecision bound = trimmed.decide(test, {PruningSettings::Schedule::Bound});
+    CHECK(full.object == decide(d));
+    CHECK(bound.object == full.object);
+    CHECK(bound.error == full.error);
+    trimmed_pruned += bound.pruned;
+  }
+  CHECK(trimmed_pruned > 0);
+  // With a distance cut-off the bound is not valid and is not used.
+  IclapClassifier<float, Planar> cut = c;
+  cut.icp.rejection.max_distance = 0.05f;
+  cut.fit(sc.objects, 4);
+  const PrunedDecision t = cut.decide(sc.tests[0].second, {PruningSettings::Schedule::Bound});
   CHECK(t.pruned == 0);
   CHECK(t.completed == 30);
 }

@@ -242,7 +242,7 @@ struct PruningSettings {
   /// (one small kd-tree query per test point and object), but the winner
   /// can lie outside the shortlist; `scaling_study` reports how often the
   /// decisions differ from the exact ones. Needs the lower bound (a model
-  /// that leaves coordinates unmoved, no rejection); ignored by None.
+  /// that leaves coordinates unmoved, no `max_distance`); ignored by None.
   Index shortlist = 0;
 
   void validate() const {
@@ -273,7 +273,13 @@ struct PrunedDecision {
 /// table and are re-placed between explorations; FullRigid is the paper's).
 ///
 /// Configure through the public members (`icp.termination.max_iterations`,
-/// `embedding.label_scale`, ...) before `fit`. The references (kd-trees
+/// `embedding.label_scale`, ...) before `fit`. `icp.rejection.trim_fraction`
+/// < 1 makes every registration a trimmed ICP: E then sums the closest
+/// fraction of the pairs, the same number for every object, so the
+/// distances stay comparable. `icp.rejection.max_distance` does not keep
+/// them comparable (E sums the pairs kept, and an object that kept fewer
+/// looks closer); use it only when that is what you want. It also turns the
+/// pruning bound off, which trimming keeps (see `lower_bounds`). The references (kd-trees
 /// included) are built once in `fit` and shared by every `distances` call;
 /// `distances` is const and thread-safe (per-thread buffers).
 template <typename Embedding, typename Scalar = float, int Dim = Embedding::dimension, typename Model = Planar,
@@ -368,8 +374,12 @@ class RegistrationClassifier final : public Classifier {
   /// reference point in the coordinates the transform model never moves (z
   /// and the label for Planar, the label or descriptor for SpatialRigid and
   /// Translation; none for FullRigid, where every bound is 0). Valid for any
-  /// motion of the model and without rejection, because the error of a pair
-  /// is at least its error in those coordinates.
+  /// motion of the model, because the error of a pair is at least its error
+  /// in those coordinates. With trimming (`icp.rejection.trim_fraction` < 1)
+  /// the bound sums the smallest of these per-point bounds, as many as the
+  /// trimming keeps pairs: the k-th smallest pair error is at least the k-th
+  /// smallest per-point bound. Not available with a `max_distance` (a
+  /// dropped pair adds nothing); `decide` then registers every object.
   Eigen::VectorXd lower_bounds(const TouchSet& test) const {
     test.validate("test");
     check_embedded_dimension(test, "test");
@@ -385,9 +395,9 @@ class RegistrationClassifier final : public Classifier {
   /// (argmin of every final error): objects are registered in increasing
   /// order of `lower_bounds`, and an object is skipped only when its bound
   /// exceeds a final error already reached, which its own final error could
-  /// then not beat. The bound needs the full error (no rejection); with a
-  /// rejector configured it is not used. Single-threaded; const and
-  /// thread-safe.
+  /// then not beat. Plain and trimmed ICP have the bound; with a
+  /// `max_distance` it is not used (see `lower_bounds`). Single-threaded;
+  /// const and thread-safe.
   PrunedDecision decide(const TouchSet& test, const PruningSettings& pruning = {}) const {
     pruning.validate();
     test.validate("test");
@@ -405,7 +415,7 @@ class RegistrationClassifier final : public Classifier {
     if (pruning.shortlist > 0 && pruning.schedule != PruningSettings::Schedule::None) {
       if (!bounded)
         throw InvalidArgument("pruning.shortlist",
-                              "needs the lower bound, which rejection or a transform model moving every coordinate "
+                              "needs the lower bound, which a max_distance or a transform model moving every coordinate "
                               "leaves unavailable");
       if (pruning.shortlist < n) {
         out.eliminated = (n - pruning.shortlist) * static_cast<Index>(starts.size());
@@ -521,8 +531,7 @@ class RegistrationClassifier final : public Classifier {
 
  private:
   bool bound_is_valid() const {
-    return !fixed_.empty() && !(icp.rejection.max_distance < std::numeric_limits<Scalar>::infinity()) &&
-           !(icp.rejection.trim_fraction < Scalar(1));
+    return !fixed_.empty() && !(icp.rejection.max_distance < std::numeric_limits<Scalar>::infinity());
   }
 
   Eigen::VectorXd lower_bounds_of(const Cloud<Scalar, Dim>& points) const {
@@ -531,12 +540,16 @@ class RegistrationClassifier final : public Classifier {
     const Index d = points.rows(), b = Model::block_size(d);
     const auto& w = references_.front().weights();
     Point<Scalar, Eigen::Dynamic> q(d - b);
+    const Index n = points.cols(), keep = icp.rejection.trimmed_count(n);
+    std::vector<double> per_point(static_cast<std::size_t>(n));
     for (std::size_t j = 0; j < fixed_.size(); ++j) {
-      double sum = 0;
-      for (Index i = 0; i < points.cols(); ++i) {
+      for (Index i = 0; i < n; ++i) {
         q = points.col(i).tail(d - b).cwiseProduct(w.tail(d - b));
-        sum += static_cast<double>(fixed_[j].nearest(q.data()).squared_distance);
+        per_point[static_cast<std::size_t>(i)] = static_cast<double>(fixed_[j].nearest(q.data()).squared_distance);
       }
+      if (keep < n) std::nth_element(per_point.begin(), per_point.begin() + (keep - 1), per_point.end());
+      double sum = 0;  // the `keep` smallest, in test order when keep == n
+      for (Index i = 0; i < keep; ++i) sum += per_point[static_cast<std::size_t>(i)];
       lb(static_cast<Index>(j)) = sum;
     }
     return lb;

@@ -206,9 +206,11 @@ class Icp {
 
 /// A registration in progress (see Icp::start). After construction the
 /// current transform's closest-point error is known; each `step()` makes one
-/// transform update and one matching. Without rejection the error never
-/// increases from one step to the next (both the matching and the
-/// closed-form update minimise E), which pruning schedules rely on.
+/// transform update and one matching. Without a `max_distance` the error
+/// never increases from one step to the next (the closed-form update
+/// minimises E over the kept pairs, and each point's new match is at least
+/// as close; with trimming, the closest pairs after matching sum to no more
+/// than the previously kept ones now do), which pruning schedules rely on.
 template <typename Scalar, int Dim, typename Model, typename Rejector, typename Termination>
 template <typename Search>
 class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {

@@ -34,6 +34,15 @@ struct DistanceRejector {
       throw InvalidArgument("rejection.trim_fraction", "must be in (0, 1] (got " + std::to_string(trim_fraction) + ")");
   }
 
+  /// How many of `n` pairs (n >= 1) the trimming keeps: ceil(trim_fraction n),
+  /// at least 1.
+  Index trimmed_count(Index n) const {
+    if (!(trim_fraction < 1)) return n;
+    // The 1 - 1e-12 guards against products such as 0.7 * 10 = 7.0000000000000009.
+    const double want = std::ceil(static_cast<double>(trim_fraction) * static_cast<double>(n) * (1.0 - 1e-12));
+    return std::clamp<Index>(static_cast<Index>(want), 1, n);
+  }
+
   /// O(n) (distance) plus O(n) expected (nth_element) when trimming. Ties at
   /// the trimming boundary are broken by test index, so the kept set is
   /// unique.
@@ -47,9 +56,7 @@ struct DistanceRejector {
                                 pairs);
     }
     if (trim_fraction < 1 && kept > 0) {
-      // The 1 - 1e-12 guards against products such as 0.7 * 10 = 7.0000000000000009.
-      const double want = std::ceil(static_cast<double>(trim_fraction) * static_cast<double>(kept) * (1.0 - 1e-12));
-      const Index keep = std::clamp<Index>(static_cast<Index>(want), 1, kept);
+      const Index keep = trimmed_count(kept);
       if (keep < kept) {
         std::nth_element(pairs, pairs + keep - 1, pairs + kept, [](const auto& a, const auto& b) {
           return a.squared_distance < b.squared_distance ||
