@@ -155,6 +155,13 @@ std::vector<Setting> grid() {
                        std::make_unique<PrunedVote<IclapClassifier<float, Planar>>>(IclapClassifier<float, Planar>{}, p));
                  }});
   }
+  // The exact bound also holds for trimmed ICP (the smallest per-point bounds).
+  s.push_back({"pruning", "lower bound, trimmed patch ICP 50%", "sift", 50, [] {
+                 PatchClassifier<float, Planar> c;
+                 c.icp.rejection.trim_fraction = 0.5f;
+                 return std::unique_ptr<Classifier>(
+                     std::make_unique<PrunedVote<PatchClassifier<float, Planar>>>(std::move(c), PruningSettings{}));
+               }});
   return s;
 }
 
