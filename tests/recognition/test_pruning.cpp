@@ -85,46 +85,51 @@ TEST_CASE("lower bounds never exceed the final errors") {
   CHECK(full.lower_bounds(sc.tests[0].second).isZero(0));
 }
 
-TEST_CASE("bound pruning gives exactly the decisions of the full registration, with less work") {
-  const Scene sc = make_scene(30, 2);
-  IclapClassifier<float, Planar> c;
-  c.embedding.label_scale = 0.002;
-  c.fit(sc.objects, 4);
+namespace {
+
+struct BoundTally {
   Index pruned = 0, completed = 0;
   int correct = 0;
+};
+
+/// Over every test of `sc`: the Bound decision of `c` is the full
+/// registration's (and the argmin of its distances), with every object
+/// either registered or pruned.
+BoundTally check_bound_is_exact(const IclapClassifier<float, Planar>& c, const Scene& sc) {
+  BoundTally tally;
+  const Index n = static_cast<Index>(sc.objects.size());
   for (const auto& [truth, test] : sc.tests) {
-    Eigen::VectorXd d(30);
+    Eigen::VectorXd d(n);
     c.distances(test, d);
     const PrunedDecision full = c.decide(test, {PruningSettings::Schedule::None});
     const PrunedDecision bound = c.decide(test, {PruningSettings::Schedule::Bound});
     CHECK(full.object == decide(d));
     CHECK(bound.object == full.object);
     CHECK(bound.error == full.error);
-    CHECK(full.completed == 30);
-    CHECK(bound.completed + bound.pruned == 30);
-    pruned += bound.pruned;
-    completed += bound.completed;
-    correct += bound.object == truth;
+    CHECK(full.completed == n);
+    CHECK(bound.completed + bound.pruned == n);
+    tally.pruned += bound.pruned;
+    tally.completed += bound.completed;
+    tally.correct += bound.object == truth;
   }
-  CHECK(pruned > completed);  // most registrations are skipped on this scene
-  CHECK(correct > static_cast<int>(sc.tests.size()) / 10);  // well above chance (1/30)
-  // Trimmed ICP keeps an exact bound.
+  return tally;
+}
+
+}  // namespace
+
+TEST_CASE("bound pruning gives exactly the decisions of the full registration, with less work") {
+  const Scene sc = make_scene(30, 2);
+  IclapClassifier<float, Planar> c;
+  c.embedding.label_scale = 0.002;
+  c.fit(sc.objects, 4);
+  const BoundTally plain = check_bound_is_exact(c, sc);
+  CHECK(plain.pruned > plain.completed);  // most registrations are skipped on this scene
+  CHECK(plain.correct > static_cast<int>(sc.tests.size()) / 10);  // well above chance (1/30)
+  // Trimmed ICP keeps an exact bound (the smallest per-point bounds).
   IclapClassifier<float, Planar> trimmed = c;
   trimmed.icp.rejection.trim_fraction = 0.5f;
   trimmed.fit(sc.objects, 4);
-  Index trimmed_pruned = 0;
-  for (const auto& [truth, test] : sc.tests) {
-    (void)truth;
-    Eigen::VectorXd d(30);
-    trimmed.distances(test, d);
-    const PrunedDecision full = trimmed.decide(test, {PruningSettings::Schedule::None});
-    const PrunedDecision bound = trimmed.decide(test, {PruningSettings::Schedule::Bound});
-    CHECK(full.object == decide(d));
-    CHECK(bound.object == full.object);
-    CHECK(bound.error == full.error);
-    trimmed_pruned += bound.pruned;
-  }
-  CHECK(trimmed_pruned > 0);
+  CHECK(check_bound_is_exact(trimmed, sc).pruned > 0);
   // With a distance cut-off the bound is not valid and is not used.
   IclapClassifier<float, Planar> cut = c;
   cut.icp.rejection.max_distance = 0.05f;
