@@ -137,6 +137,8 @@ TEST_CASE("bound pruning gives exactly the decisions of the full registration, w
   const PrunedDecision t = cut.decide(sc.tests[0].second, {PruningSettings::Schedule::Bound});
   CHECK(t.pruned == 0);
   CHECK(t.completed == 30);
+  CHECK(c.lower_bounds(sc.tests[0].second).maxCoeff() > 0);
+  CHECK(cut.lower_bounds(sc.tests[0].second).isZero(0));  // the only bound that holds
 }
 
 TEST_CASE("successive halving: valid decisions, fewer iterations, settings checked") {

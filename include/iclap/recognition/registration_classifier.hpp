@@ -378,14 +378,14 @@ class RegistrationClassifier final : public Classifier {
   /// in those coordinates. With trimming (`icp.rejection.trim_fraction` < 1)
   /// the bound sums the smallest of these per-point bounds, as many as the
   /// trimming keeps pairs: the k-th smallest pair error is at least the k-th
-  /// smallest per-point bound. Not available with a `max_distance` (a
-  /// dropped pair adds nothing); `decide` then registers every object.
+  /// smallest per-point bound. With a `max_distance` (a dropped pair adds
+  /// nothing) every bound is 0, and `decide` registers every object.
   Eigen::VectorXd lower_bounds(const TouchSet& test) const {
     test.validate("test");
     check_embedded_dimension(test, "test");
     Cloud<Scalar, Dim> points;
     embedding.template embed<Scalar, Dim>(test, points);
-    return lower_bounds_of(points);
+    return bound_is_valid() ? lower_bounds_of(points) : Eigen::VectorXd::Zero(objects());
   }
 
   /// Which object fits `test` best (smallest final error, ties to the
