@@ -127,9 +127,7 @@ class Options {
                      const std::string& fallback) const {
     const std::string v = string(name, fallback);
     if (std::find(choices.begin(), choices.end(), v) == choices.end()) {
-      std::string list;
-      for (const auto& c : choices) list += (list.empty() ? "" : "|") + c;
-      throw UsageError("option --" + name + ": '" + v + "' is not one of " + list);
+      throw UsageError("option --" + name + ": '" + v + "' is not one of " + join(choices, "|"));
     }
     return v;
   }
@@ -156,6 +154,13 @@ class Options {
     if (!has(name)) return out;
     for (const auto& item : split(string(name), ','))
       out.push_back(parse_number(item, "--" + name, min, max));
+    return out;
+  }
+
+  /// `items` joined by `sep`: join({"a", "b"}, ", ") == "a, b".
+  static std::string join(const std::vector<std::string>& items, const std::string& sep) {
+    std::string out;
+    for (const auto& item : items) out += (out.empty() ? "" : sep) + item;
     return out;
   }
 

@@ -324,9 +324,7 @@ SimObject simulation_object(const std::string& spec, const std::string& unit) {
     scale_mesh(mesh, scale);
     return make_sim_object(fs::path(spec).stem().string(), std::move(mesh), true);
   }
-  std::string list;
-  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-  throw UsageError("--simulate: '" + spec + "' is neither a built-in object (" + list +
+  throw UsageError("--simulate: '" + spec + "' is neither a built-in object (" + Options::join(names, ", ") +
                    ") nor a mesh file (.obj, .stl, .ply)");
 }
 

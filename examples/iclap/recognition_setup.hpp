@@ -24,17 +24,15 @@
 
 namespace iclap::cli {
 
-/// "a, b, c".
-inline std::string comma_list(const std::vector<std::string>& names) {
-  std::string list;
-  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-  return list;
-}
-
 /// The classifiers that register (every one but bow), in build order.
 inline const std::vector<std::string>& registration_classifiers() {
   static const std::vector<std::string> names = {"icp", "iclap", "iclapn", "patch", "iclap_patch"};
   return names;
+}
+
+inline bool is_registration_classifier(const std::string& name) {
+  const auto& r = registration_classifiers();
+  return std::find(r.begin(), r.end(), name) != r.end();
 }
 
 struct RecognitionOptions {
@@ -74,7 +72,7 @@ struct RecognitionOptions {
     std::snprintf(buf, sizeof buf, "at most %d iterations, relative tolerance %g; ", max_iterations, relative_tolerance);
     std::string out = buf, trimmed;
     for (const auto& n : names)
-      if (n != "bow" && trim_of(n) < 1) {
+      if (is_registration_classifier(n) && trim_of(n) < 1) {
         std::snprintf(buf, sizeof buf, "%s%s %g%%", trimmed.empty() ? "" : ", ", n.c_str(), 100 * trim_of(n));
         trimmed += buf;
       }
@@ -143,10 +141,9 @@ struct RecognitionOptions {
         all_given = true;
         continue;
       }
-      const auto& known = registration_classifiers();
-      if (std::find(known.begin(), known.end(), name) == known.end())
+      if (!is_registration_classifier(name))
         throw UsageError("--trim " + item + ": '" + name + "' is not a registration classifier (" +
-                         comma_list(known) + ")");
+                         Options::join(registration_classifiers(), ", ") + ")");
       if (!trim_by_name.emplace(name, f).second) throw UsageError("--trim names '" + name + "' twice");
     }
   }
@@ -176,7 +173,7 @@ inline std::vector<std::string> needed_classifiers(const std::vector<Method>& me
   for (const auto& m : methods)
     for (const auto& c : m.fusion.classifiers())
       if (std::find(known.begin(), known.end(), c) == known.end())
-        throw UsageError("method '" + m.name + "' uses unknown classifier '" + c + "' (known: " + comma_list(known) +
+        throw UsageError("method '" + m.name + "' uses unknown classifier '" + c + "' (known: " + Options::join(known, ", ") +
                          ")");
   for (const auto& k : known)
     for (const auto& m : methods) {
