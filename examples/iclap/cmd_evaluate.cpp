@@ -3,6 +3,7 @@
 // `iclap evaluate [FILE.csv]`: the paper's recognition experiment (Section
 // VI), the project's main job.
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -353,11 +354,14 @@ int run_evaluate(const Args& args) {
   ro.codebook_seed = s.seed;
   s.normalization = parse_normalization(opt.choice("normalization", {"l2", "minmax", "zscore"}, "l2"));
   s.threads = static_cast<int>(opt.integer("threads", 0, 0, 4096));
-  const std::vector<Method> methods = parse_methods(opt.string("methods", "paper"));
+  const std::vector<Method> named = parse_methods(opt.string("methods", "paper"));
   const fs::path out = opt.string("out", "results");
   const auto sim_seed = static_cast<std::uint64_t>(opt.integer("sim-seed", 1, 0));
 
-  const std::vector<std::string> needed = needed_classifiers(methods);
+  const std::vector<std::string> needed = needed_classifiers(named);
+  // --trim auto: one classifier variant per fraction, chosen like the weights.
+  const std::vector<Method> methods = ro.expand_trim_choices(named, needed);
+  const std::vector<std::string> built = ro.expand_trim_choices(needed);
   const auto t0 = std::chrono::steady_clock::now();
   std::string origin;
   Dataset dataset;
@@ -375,7 +379,7 @@ int run_evaluate(const Args& args) {
     table = make_touch_table(dataset, ro, std::ref(progress));
   }
 
-  const ClassifierFactory factory = [ro, needed] { return make_classifiers(ro, needed); };
+  const ClassifierFactory factory = [ro, built] { return make_classifiers(ro, built); };
 
   CrossValidation<> cv(table, factory, make_quantizer(ro), methods, s);
   const unsigned threads = s.threads > 0 ? static_cast<unsigned>(s.threads) : std::max(1u, std::thread::hardware_concurrency());
@@ -404,18 +408,24 @@ int run_evaluate(const Args& args) {
       std::printf(" %*s", std::max<int>(6, static_cast<int>(m.name.size())), percent(m.rate(t)).c_str());
     std::printf("\n");
   }
-  std::printf("\nfusion weights chosen on the training folds (fold: weights):\n");
-  for (const auto& m : r.methods) {
-    if (m.fold_weights.empty() || m.fold_weights[0].empty()) continue;
+  const bool any_alternatives =
+      std::any_of(methods.begin(), methods.end(), [](const Method& m) { return !m.alternatives.empty(); });
+  std::printf(any_alternatives ? "\nfusions chosen on the training folds (fold: fusion):\n"
+                               : "\nfusion weights chosen on the training folds (fold: weights):\n");
+  for (std::size_t i = 0; i < r.methods.size(); ++i) {
+    const MethodResult& m = r.methods[i];
+    if (!methods[i].chosen_in_training() || m.fold_expressions.empty()) continue;
     std::printf("  %s:", m.name.c_str());
     for (std::size_t f = 0; f < m.fold_expressions.size(); ++f) std::printf(" [%zu] %s", f, m.fold_expressions[f].c_str());
     std::printf("\n");
   }
   std::printf("\ntime per recognition (one test set against all %zu objects, CPU):", r.objects.size());
-  for (std::size_t c = 0; c < r.classifiers.size(); ++c)
-    std::printf(" %s %.3f ms%s", r.classifiers[c].c_str(),
-                r.tests ? 1e3 * r.classifier_seconds[c] / static_cast<double>(r.tests) : 0.0,
-                c + 1 < r.classifiers.size() ? "," : "");
+  for (std::size_t c = 0; c < r.classifiers.size(); ++c) {
+    const std::size_t n = r.classifier_tests[c];
+    std::printf(" %s %.3f ms", r.classifiers[c].c_str(), n ? 1e3 * r.classifier_seconds[c] / static_cast<double>(n) : 0.0);
+    if (n != r.tests) std::printf(" (on %zu of %zu test sets)", n, r.tests);
+    std::printf("%s", c + 1 < r.classifiers.size() ? "," : "");
+  }
   std::printf("\n");
   if (r.capped_draws) std::printf("note: %zu draws asked for more touches than their exploration had and used all of them\n", r.capped_draws);
   if (r.empty_explorations) std::printf("note: %zu held-out explorations had no touch and were not tested\n", r.empty_explorations);

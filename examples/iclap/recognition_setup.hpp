@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <map>
 #include <memory>
@@ -54,14 +55,80 @@ struct RecognitionOptions {
   /// the same number.
   double trim = 1;
   std::map<std::string, double> trim_by_name;  ///< e.g. {"patch", 0.5}
+  /// "--trim auto" / "NAME=auto": the fraction is chosen among
+  /// `trim_choices` on the training folds of the cross validation, like the
+  /// fusion weights (one classifier variant per choice, named by
+  /// trim_variant(), e.g. "patch-trim50"). `trim_auto` applies to every
+  /// registration classifier not in `trim_by_name` or `trim_auto_by_name`.
+  bool trim_auto = false;
+  std::set<std::string> trim_auto_by_name;
+  std::vector<double> trim_choices = {1, 0.7, 0.5, 0.3};
   double contact_threshold = kDefaultContactThreshold;
   Index patch_points = 8;            ///< contact points per test touch (patch classifiers)
   double patch_voxel = 0.002;        ///< reference voxel, metres (patch classifiers)
 
-  /// The trimmed fraction of classifier `name`.
+  /// The trimmed fraction of classifier `name` (or of a trim variant, whose
+  /// name says it).
   double trim_of(const std::string& name) const {
+    std::string base;
+    double f = 1;
+    if (split_trim_variant(name, base, f)) return f;
     const auto it = trim_by_name.find(name);
     return it == trim_by_name.end() ? trim : it->second;
+  }
+
+  /// Is classifier `name`'s fraction chosen on the training folds?
+  bool trim_is_auto(const std::string& name) const {
+    if (!is_registration_classifier(name) || trim_by_name.count(name)) return false;
+    return trim_auto || trim_auto_by_name.count(name) > 0;
+  }
+
+  /// "patch" trimmed to 0.5: "patch-trim50" (0.333: "patch-trim33_3").
+  static std::string trim_variant(const std::string& base, double fraction) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", 100 * fraction);
+    std::string pct = buf;
+    std::replace(pct.begin(), pct.end(), '.', '_');
+    return base + "-trim" + pct;
+  }
+  /// The inverse of trim_variant(); false for any other name.
+  static bool split_trim_variant(const std::string& name, std::string& base, double& fraction) {
+    const auto at = name.rfind("-trim");
+    if (at == std::string::npos || at + 5 >= name.size()) return false;
+    std::string pct = name.substr(at + 5);
+    std::replace(pct.begin(), pct.end(), '_', '.');
+    char* end = nullptr;
+    const double v = std::strtod(pct.c_str(), &end);
+    if (end != pct.c_str() + pct.size() || !(v > 0 && v <= 100)) return false;
+    base = name.substr(0, at);
+    fraction = v / 100;
+    return true;
+  }
+
+  /// The classifiers to build for `needed` (the methods' own names): each
+  /// one whose trim is chosen on the training folds becomes its variants.
+  std::vector<std::string> expand_trim_choices(const std::vector<std::string>& needed) const {
+    std::vector<std::string> out;
+    for (const auto& n : needed) {
+      if (!trim_is_auto(n)) {
+        out.push_back(n);
+        continue;
+      }
+      for (double f : trim_choices) out.push_back(trim_variant(n, f));
+    }
+    return out;
+  }
+  /// `methods` with every classifier whose trim is chosen on the training
+  /// folds replaced by its variants (Method::alternatives).
+  std::vector<Method> expand_trim_choices(std::vector<Method> methods, const std::vector<std::string>& needed) const {
+    for (auto& m : methods)
+      for (const auto& n : needed)
+        if (trim_is_auto(n)) {
+          std::vector<std::string> variants;
+          for (double f : trim_choices) variants.push_back(trim_variant(n, f));
+          m = with_variants(m, n, variants);
+        }
+    return methods;
   }
 
   /// The ICP settings of the registration classifiers among `names` as the
@@ -71,8 +138,15 @@ struct RecognitionOptions {
     char buf[160];
     std::snprintf(buf, sizeof buf, "at most %d iterations, relative tolerance %g; ", max_iterations, relative_tolerance);
     std::string out = buf, trimmed;
+    std::string choices;
+    for (double f : trim_choices) {
+      std::snprintf(buf, sizeof buf, "%s%g%%", choices.empty() ? "" : "/", 100 * f);
+      choices += buf;
+    }
     for (const auto& n : names)
-      if (is_registration_classifier(n) && trim_of(n) < 1) {
+      if (trim_is_auto(n)) {
+        trimmed += (trimmed.empty() ? "" : ", ") + n + " " + choices + " chosen on the training folds";
+      } else if (is_registration_classifier(n) && trim_of(n) < 1) {
         std::snprintf(buf, sizeof buf, "%s%s %g%%", trimmed.empty() ? "" : ", ", n.c_str(), 100 * trim_of(n));
         trimmed += buf;
       }
@@ -82,7 +156,8 @@ struct RecognitionOptions {
   /// The option names `parse` reads (value options).
   static std::set<std::string> value_options() {
     return {"descriptor", "transform", "scalar", "search", "k", "label-scale", "descriptor-scale",
-            "max-iterations", "relative-tolerance", "trim", "contact-threshold", "patch-points", "patch-voxel"};
+            "max-iterations", "relative-tolerance", "trim", "trim-choices", "contact-threshold", "patch-points",
+            "patch-voxel"};
   }
   /// Usage lines of those options.
   static const char* usage() {
@@ -101,7 +176,9 @@ struct RecognitionOptions {
            "  --trim F|NAME=F,...     trimmed ICP: the distance and the motion use the closest\n"
            "                          fraction F of the pairs, in (0, 1]; F alone for every\n"
            "                          registration classifier, NAME=F for one (e.g. patch=0.5);\n"
-           "                          default 1: all pairs, the paper's\n"
+           "                          F = auto: chosen among --trim-choices on the training folds\n"
+           "                          (evaluate only); default 1: all pairs, the paper's\n"
+           "  --trim-choices LIST     fractions --trim auto chooses from (default 1,0.7,0.5,0.3)\n"
            "  --contact-threshold P   a frame is a touch when a taxel exceeds P raw units\n"
            "  --patch-points N        contact points per test touch for patch, iclap_patch (default 8)\n"
            "  --patch-voxel V         reference voxel for patch, iclap_patch, metres (default 0.002)\n";
@@ -119,6 +196,19 @@ struct RecognitionOptions {
     max_iterations = static_cast<int>(o.integer("max-iterations", max_iterations, 0, 100000));
     relative_tolerance = o.number("relative-tolerance", relative_tolerance, 0.0);
     if (o.has("trim")) parse_trim(o.string("trim"));
+    if (o.has("trim-choices")) {
+      trim_choices.clear();
+      std::set<double> seen;
+      for (const auto& item : Options::split(o.string("trim-choices"), ',')) {
+        const double f = Options::parse_number(item, "--trim-choices", -std::numeric_limits<double>::infinity(),
+                                               std::numeric_limits<double>::infinity());
+        if (!(f > 0 && f <= 1)) throw UsageError("--trim-choices " + item + ": a fraction must be in (0, 1]");
+        if (!seen.insert(f).second) throw UsageError("--trim-choices lists " + item + " twice");
+        trim_choices.push_back(f);
+      }
+      if (!trim_auto && trim_auto_by_name.empty())
+        throw UsageError("--trim-choices needs --trim auto or --trim NAME=auto");
+    }
     contact_threshold = o.number("contact-threshold", contact_threshold, 0.0);
     patch_points = static_cast<Index>(o.integer("patch-points", patch_points, 1, 84 * 100));
     patch_voxel = o.number("patch-voxel", patch_voxel, 0.0, 1.0);
@@ -132,6 +222,18 @@ struct RecognitionOptions {
       const auto eq = item.find('=');
       const std::string name = eq == std::string::npos ? "" : item.substr(0, eq);
       const std::string text = eq == std::string::npos ? item : item.substr(eq + 1);
+      if (!name.empty() && !is_registration_classifier(name))
+        throw UsageError("--trim " + item + ": '" + name + "' is not a registration classifier (" +
+                         Options::join(registration_classifiers(), ", ") + ")");
+      if (text == "auto") {
+        if (name.empty()) {
+          if (all_given) throw UsageError("--trim gives the fraction of every classifier twice");
+          trim_auto = all_given = true;
+        } else if (trim_by_name.count(name) || !trim_auto_by_name.insert(name).second) {
+          throw UsageError("--trim names '" + name + "' twice");
+        }
+        continue;
+      }
       const double f = Options::parse_number(text, "--trim " + item, -std::numeric_limits<double>::infinity(),
                                              std::numeric_limits<double>::infinity());
       if (!(f > 0 && f <= 1)) throw UsageError("--trim " + item + ": the fraction must be in (0, 1]");
@@ -141,10 +243,8 @@ struct RecognitionOptions {
         all_given = true;
         continue;
       }
-      if (!is_registration_classifier(name))
-        throw UsageError("--trim " + item + ": '" + name + "' is not a registration classifier (" +
-                         Options::join(registration_classifiers(), ", ") + ")");
-      if (!trim_by_name.emplace(name, f).second) throw UsageError("--trim names '" + name + "' twice");
+      if (trim_auto_by_name.count(name) || !trim_by_name.emplace(name, f).second)
+        throw UsageError("--trim names '" + name + "' twice");
     }
   }
 };

@@ -146,6 +146,38 @@ TEST_CASE("method names, parsing and the weight grid") {
   for (const auto& w : g3) CHECK_NOTHROW(methods[9].fusion.with_weights(w));
 }
 
+TEST_CASE("methods with alternatives: renaming and variants") {
+  const Method m = parse_method("iclap_patch+patch+bow");
+  const Fusion renamed = m.fusion.renamed("patch", "patch-trim50");
+  CHECK(renamed.to_string() == "0.333333*iclap_patch+0.333333*patch-trim50+0.333333*bow");
+  CHECK(m.fusion.renamed("icp", "x").to_string() == m.fusion.to_string());  // unused: unchanged
+  CHECK(parse_method("(icp*bow)*icp").fusion.renamed("icp", "a").to_string() == "a*bow*a");
+
+  // Two classifiers with two variants each: every combination, in order.
+  const Method v = with_variants(with_variants(m, "patch", {"p1", "p2"}), "iclap_patch", {"q1", "q2"});
+  CHECK(v.name == "iclap_patch+patch+bow");
+  CHECK(v.fit_weights);
+  std::vector<std::string> candidates;
+  for (const auto& c : v.candidates()) candidates.push_back(c.to_string());
+  CHECK(candidates == std::vector<std::string>{"0.333333*q1+0.333333*p1+0.333333*bow",
+                                               "0.333333*q2+0.333333*p1+0.333333*bow",
+                                               "0.333333*q1+0.333333*p2+0.333333*bow",
+                                               "0.333333*q2+0.333333*p2+0.333333*bow"});
+  CHECK(v.alternatives.size() == 3);
+  CHECK(v.chosen_in_training());
+  CHECK(v.classifiers() == std::vector<std::string>{"q1", "p1", "bow", "q2", "p2"});
+  CHECK_NOTHROW(v.validate());
+  // A method without the classifier is unchanged; an empty list is refused.
+  CHECK(with_variants(parse_method("icp"), "patch", {"p1"}).alternatives.empty());
+  CHECK(!parse_method("icp").chosen_in_training());
+  CHECK(error_of([&] { with_variants(m, "patch", {}); }) == "variants | variants: no variant of classifier 'patch'");
+  // Fitted weights need every alternative to be a sum of as many terms.
+  Method bad = parse_method("icp+bow");
+  bad.alternatives.push_back(Fusion::classifier("icp"));
+  CHECK(error_of([&] { bad.validate(); }) ==
+        "methods | methods: method 'icp+bow' fits weights, but its alternative icp is not a weighted sum of 2 terms");
+}
+
 TEST_CASE("normalisation policies") {
   Eigen::VectorXd d = vec({3, 4, 0});
   normalize(d, Normalization::L2);

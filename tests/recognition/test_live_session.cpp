@@ -244,7 +244,7 @@ TEST_CASE("live weights: fixed methods pass through, fitted ones come from the g
   // more of the same held-out tests right.
   std::vector<Method> grid;
   for (const auto& g : weight_grid(2)) grid.push_back(Method{fitted.fusion.with_weights(g).to_string(),
-                                                             fitted.fusion.with_weights(g), false});
+                                                             fitted.fusion.with_weights(g), false, {}});
   s.repeats = s.weight_repeats;
   s.weight_sweeps = false;
   const CrossValidationResult cv = CrossValidation<>(t, test::paper_classifiers, codebook(), grid, s).run();

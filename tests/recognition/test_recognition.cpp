@@ -192,6 +192,83 @@ TEST_CASE("cross validation: rates, weights from training folds, identical for a
   }
 }
 
+// A classifier that cannot tell objects apart: every distance is 1.
+struct Blind final : Classifier {
+  std::string label;
+  Index n = 0;
+  explicit Blind(std::string name) : label(std::move(name)) {}
+  std::string name() const override { return label; }
+  void fit(const std::vector<TouchSet>& objects, Index) override { n = static_cast<Index>(objects.size()); }
+  void distances(const TouchSet&, Eigen::Ref<Eigen::VectorXd> out) const override { out.setOnes(); }
+  Index objects() const override { return n; }
+};
+
+TEST_CASE("cross validation chooses among a method's alternatives on the training folds") {
+  const TouchTable t = synthetic_table(4);
+  auto factory = [] {
+    auto cs = test::paper_classifiers();  // bow, icp, iclap
+    cs.push_back(std::make_unique<Blind>("blind"));
+    auto trimmed = std::make_unique<IcpClassifier<float, Planar>>();
+    trimmed->label = "icp_trim";
+    trimmed->icp.rejection.trim_fraction = 0.5f;
+    cs.push_back(std::move(trimmed));
+    return cs;
+  };
+  CrossValidationSettings s;
+  s.touches = {1, 3, 8};
+  s.repeats = 3;
+  s.weight_repeats = 1;
+  s.threads = 2;
+  // The blind candidate comes first, so choosing it would be the default.
+  Method single{"iclap", Fusion::classifier("blind"), false, {Fusion::classifier("iclap")}};
+  const Method fitted = with_variants(parse_method("icp+bow"), "icp", {"icp", "icp_trim"});
+  const std::vector<Method> methods = {single, parse_method("iclap"), fitted, parse_method("icp+bow"),
+                                       parse_method("icp_trim+bow")};
+  const auto r = CrossValidation<>(t, factory, codebook(4), methods, s).run();
+  REQUIRE(r.methods.size() == 5);
+  // The informative candidate wins in every fold, and the method then
+  // recognises exactly as the method written with it alone.
+  CHECK(r.methods[0].fold_candidates == std::vector<std::size_t>(4, 1));
+  CHECK(r.methods[0].correct == r.methods[1].correct);
+  CHECK(r.methods[0].fold_expressions == r.methods[1].fold_expressions);
+  CHECK(r.methods[0].confusion[2] == r.methods[1].confusion[2]);
+  CHECK(r.methods[1].fold_candidates == std::vector<std::size_t>(4, 0));
+  // With fitted weights, each fold's candidate gets its weights chosen as the
+  // method written with that candidate alone does, and recognises as it.
+  for (std::size_t f = 0; f < 4; ++f) {
+    CAPTURE(f);
+    const std::size_t c = r.methods[2].fold_candidates.at(f);
+    REQUIRE(c < 2);
+    const MethodResult& alone = r.methods[3 + c];
+    CHECK(r.methods[2].fold_expressions[f] == alone.fold_expressions[f]);
+    CHECK(r.methods[2].fold_weights[f] == alone.fold_weights[f]);
+    CHECK(r.methods[2].fold_correct[f] == alone.fold_correct[f]);
+  }
+  // Only the plain fitted methods have a weight sweep.
+  REQUIRE(r.sweeps.size() == 2);
+  CHECK(r.sweeps[0].method == "icp+bow");
+  CHECK(r.sweeps[1].method == "icp_trim+bow");
+  // The blind classifier was computed on the inner folds only, never on a test.
+  REQUIRE(r.classifiers == std::vector<std::string>{"bow", "icp", "iclap", "blind", "icp_trim"});
+  CHECK(r.classifier_tests == std::vector<std::size_t>{r.tests, r.tests, r.tests, 0, r.tests});
+  CHECK(r.classifier_seconds[3] == 0.0);
+  CHECK(r.tests == 4 * 3 * 3 * 3);  // folds x objects x touch counts x repeats
+
+  // An alternative that cannot take the method's fitted weights is refused.
+  Method bad = parse_method("icp+bow");
+  bad.alternatives.push_back(Fusion::classifier("blind"));
+  CHECK_THROWS_WITH_AS(CrossValidation<>(t, factory, codebook(4), {bad}, s),
+                       "methods: method 'icp+bow' fits weights, but its alternative blind is not a weighted sum of 2 "
+                       "terms",
+                       InvalidArgument);
+  // ... as is an alternative whose classifier the factory does not make.
+  Method unknown{"icp", Fusion::classifier("icp"), false, {Fusion::classifier("patch")}};
+  CHECK_THROWS_WITH_AS(CrossValidation<>(t, factory, codebook(4), {unknown}, s),
+                       "methods: method 'icp' needs classifier 'patch', which is not among the classifiers (bow, "
+                       "icp, iclap, blind, icp_trim)",
+                       InvalidArgument);
+}
+
 // BoW that fails on every test set of exactly 3 touches.
 struct FailingBow final : Classifier {
   BowClassifier bow;

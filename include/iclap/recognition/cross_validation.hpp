@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -70,6 +71,9 @@ struct MethodResult {
   std::vector<std::vector<double>> fold_weights;
   /// The fusion of each fold, as text, e.g. "0.2*icp+0.2*bow+0.6*iclap".
   std::vector<std::string> fold_expressions;
+  /// Index into the method's candidates() chosen on each fold's training
+  /// data (always 0 for a method without alternatives).
+  std::vector<std::size_t> fold_candidates;
 
   double rate(std::size_t t) const {
     return total[t] ? static_cast<double>(correct[t]) / static_cast<double>(total[t]) : 0.0;
@@ -100,9 +104,12 @@ struct CrossValidationResult {
   std::size_t empty_explorations = 0;
   /// Classifier names and the CPU time each spent on the test sets of the
   /// outer folds (all threads added up), for the time per recognition:
-  /// classifier_seconds[c] / tests.
+  /// classifier_seconds[c] / classifier_tests[c]. A classifier runs on a
+  /// fold's tests only if a method chose it there (see Method::alternatives),
+  /// so classifier_tests[c] can be less than `tests`, or 0.
   std::vector<std::string> classifiers;
   std::vector<double> classifier_seconds;
+  std::vector<std::size_t> classifier_tests;
   std::size_t tests = 0;
 };
 
@@ -120,7 +127,12 @@ using ClassifierFactory = std::function<std::vector<std::unique_ptr<Classifier>>
 ///    training set ("inner folds"); the grid weight vector with the highest
 ///    rate over those inner tests wins (ties: larger mean margin between the
 ///    true object's fused distance and the closest other one, then grid
-///    order). The chosen weights are reported per fold.
+///    order). The chosen weights are reported per fold. A method with
+///    alternatives (Method::alternatives) has its candidate chosen the same
+///    way, on the same inner tests (ties: candidate order, then grid order);
+///    every classifier of every candidate is computed on the inner folds,
+///    and only the chosen ones on the outer test. Such a method has no
+///    weight sweep.
 ///  - tests: `repeats` random subsets of each number of touches from the
 ///    held-out exploration of every object, drawn with Rng::derive(seed,
 ///    fold/object stream, touches/repeat substream), so the draws do not
@@ -146,6 +158,7 @@ class CrossValidation {
     settings_.validate();
     if (!factory_) throw InvalidArgument("factory", "is empty");
     if (methods_.empty()) throw EmptyInput("methods", "no method to evaluate");
+    for (const auto& m : methods_) m.validate();
     Recognizer probe(factory_(), settings_.normalization);
     probe.check(methods_);
     if (table_.size() == 0) throw EmptyInput("table", "holds no touch");
@@ -159,10 +172,11 @@ class CrossValidation {
       folds_ = std::min(folds_, static_cast<int>(ids.size()));
       explorations_.push_back(ids);
     }
-    // Classifiers the weight search needs (the only ones computed on inner folds).
+    // Classifiers the weight and candidate search needs (the only ones
+    // computed on inner folds).
     for (const auto& m : methods_)
-      if (m.fit_weights)
-        for (const auto& c : m.fusion.classifiers())
+      if (m.chosen_in_training())
+        for (const auto& c : m.classifiers())
           if (std::find(fitted_classifiers_.begin(), fitted_classifiers_.end(), c) == fitted_classifiers_.end())
             fitted_classifiers_.push_back(c);
   }
@@ -184,7 +198,7 @@ class CrossValidation {
       r.total.assign(nt, 0);
       r.confusion.assign(nt, Eigen::MatrixXi::Zero(n_objects, n_objects));
       result.methods.push_back(std::move(r));
-      if (m.fit_weights && settings_.weight_sweeps) {
+      if (has_sweep(m)) {
         WeightSweep s;
         s.method = m.name;
         for (const auto& c : m.fusion.children()) s.terms.push_back(c.to_string());
@@ -197,8 +211,9 @@ class CrossValidation {
     // Each method's weight sweep, if it has one (index into result.sweeps).
     std::vector<std::size_t> sweep_of(methods_.size(), result.sweeps.size());
     for (std::size_t mi = 0, k = 0; mi < methods_.size(); ++mi)
-      if (methods_[mi].fit_weights && settings_.weight_sweeps) sweep_of[mi] = k++;
-    const bool any_fit = std::any_of(methods_.begin(), methods_.end(), [](const Method& m) { return m.fit_weights; });
+      if (has_sweep(methods_[mi])) sweep_of[mi] = k++;
+    const bool any_fit =
+        std::any_of(methods_.begin(), methods_.end(), [](const Method& m) { return m.chosen_in_training(); });
 
     // Total work, for progress.
     std::size_t total_sets = 0;
@@ -225,8 +240,10 @@ class CrossValidation {
       TouchSet all = table_.touches;
       all.words = assign_words(q, table_.touches.features);
 
-      // Fusion weights from inner folds of the training explorations.
+      // Fusion weights (and candidates) from inner folds of the training
+      // explorations.
       std::vector<Method> chosen = methods_;
+      std::vector<std::size_t> candidate(methods_.size(), 0);
       if (any_fit) {
         std::vector<std::vector<Draw>> inner_draws;
         std::vector<std::vector<DistanceTable>> inner_tables;
@@ -241,18 +258,28 @@ class CrossValidation {
           inner_draws.push_back(std::move(draws));
         }
         parallel_for(chosen.size(), [&](std::size_t mi, unsigned) {
-          if (chosen[mi].fit_weights) chosen[mi].fusion = choose_weights(chosen[mi], inner_draws, inner_tables);
+          if (chosen[mi].chosen_in_training())
+            chosen[mi].fusion = choose(chosen[mi], inner_draws, inner_tables, candidate[mi]);
         });
       }
 
-      // Outer test on the held-out exploration.
+      // Outer test on the held-out exploration, with the chosen classifiers.
       Recognizer rec = fitted_recognizer(all, train, k);
       const auto draws = make_draws(f, -1, settings_.repeats, result);
+      std::vector<std::string> used;
+      for (const auto& m : chosen)
+        for (const auto& c : m.fusion.classifiers())
+          if (std::find(used.begin(), used.end(), c) == used.end()) used.push_back(c);
       std::vector<double> seconds;
-      const auto tables = compute(rec, all, draws, {}, counter, &seconds);
+      const auto tables = compute(rec, all, draws, used, counter, &seconds);
       result.classifiers = rec.classifier_names();
       result.classifier_seconds.resize(seconds.size(), 0.0);
-      for (std::size_t c = 0; c < seconds.size(); ++c) result.classifier_seconds[c] += seconds[c];
+      result.classifier_tests.resize(seconds.size(), 0);
+      for (std::size_t c = 0; c < seconds.size(); ++c) {
+        result.classifier_seconds[c] += seconds[c];
+        if (std::find(used.begin(), used.end(), result.classifiers[c]) != used.end())
+          result.classifier_tests[c] += draws.size();
+      }
       result.tests += draws.size();
       // Every method writes only its own MethodResult and sweep.
       parallel_for(chosen.size(), [&](std::size_t mi, unsigned) {
@@ -261,6 +288,7 @@ class CrossValidation {
         r.fold_total.emplace_back(nt, 0);
         r.fold_expressions.push_back(chosen[mi].fusion.to_string());
         r.fold_weights.push_back(chosen[mi].fit_weights ? chosen[mi].fusion.weights() : std::vector<double>{});
+        r.fold_candidates.push_back(candidate[mi]);
         for (std::size_t d = 0; d < draws.size(); ++d) {
           const Index guess = decide(chosen[mi].fusion.evaluate(tables[d]));
           const Draw& dr = draws[d];
@@ -398,38 +426,51 @@ class CrossValidation {
     detail::parallel_for(count, static_cast<unsigned>(settings_.threads), std::forward<Body>(body));
   }
 
-  /// The grid weights with the highest inner-fold rate (ties: larger mean
-  /// margin, then grid order).
-  Fusion choose_weights(const Method& m, const std::vector<std::vector<Draw>>& draws,
-                        const std::vector<std::vector<DistanceTable>>& tables) const {
-    const auto grid = weight_grid(static_cast<int>(m.fusion.children().size()), settings_.weight_steps);
-    std::size_t best = 0;
+  bool has_sweep(const Method& m) const {
+    return m.fit_weights && m.alternatives.empty() && settings_.weight_sweeps;
+  }
+
+  /// The candidate and grid weights with the highest inner-fold rate (ties:
+  /// larger mean margin, then candidate order, then grid order); the index of
+  /// the candidate goes to `index`.
+  Fusion choose(const Method& m, const std::vector<std::vector<Draw>>& draws,
+                const std::vector<std::vector<DistanceTable>>& tables, std::size_t& index) const {
+    const auto candidates = m.candidates();
+    std::optional<Fusion> best;
     Index best_correct = -1;
     double best_margin = -std::numeric_limits<double>::infinity();
-    for (std::size_t g = 0; g < grid.size(); ++g) {
-      const Fusion fg = m.fusion.with_weights(grid[g]);
-      Index correct = 0;
-      double margin = 0;
-      std::size_t count = 0;
-      for (std::size_t s = 0; s < draws.size(); ++s)
-        for (std::size_t d = 0; d < draws[s].size(); ++d) {
-          const Eigen::VectorXd fused = fg.evaluate(tables[s][d]);
-          const Index truth = draws[s][d].object;
-          correct += decide(fused) == truth;
-          double other = std::numeric_limits<double>::infinity();
-          for (Index j = 0; j < fused.size(); ++j)
-            if (j != truth) other = std::min(other, fused(j));
-          if (std::isfinite(other)) margin += other - fused(truth);
-          ++count;
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+      const auto consider = [&](const Fusion& f) {
+        Index correct = 0;
+        double margin = 0;
+        std::size_t count = 0;
+        for (std::size_t s = 0; s < draws.size(); ++s)
+          for (std::size_t d = 0; d < draws[s].size(); ++d) {
+            const Eigen::VectorXd fused = f.evaluate(tables[s][d]);
+            const Index truth = draws[s][d].object;
+            correct += decide(fused) == truth;
+            double other = std::numeric_limits<double>::infinity();
+            for (Index j = 0; j < fused.size(); ++j)
+              if (j != truth) other = std::min(other, fused(j));
+            if (std::isfinite(other)) margin += other - fused(truth);
+            ++count;
+          }
+        margin /= static_cast<double>(std::max<std::size_t>(count, 1));
+        if (correct > best_correct || (correct == best_correct && margin > best_margin)) {
+          best = f;
+          index = c;
+          best_correct = correct;
+          best_margin = margin;
         }
-      margin /= static_cast<double>(std::max<std::size_t>(count, 1));
-      if (correct > best_correct || (correct == best_correct && margin > best_margin)) {
-        best = g;
-        best_correct = correct;
-        best_margin = margin;
+      };
+      if (m.fit_weights) {
+        for (const auto& w : weight_grid(static_cast<int>(candidates[c].children().size()), settings_.weight_steps))
+          consider(candidates[c].with_weights(w));
+      } else {
+        consider(candidates[c]);
       }
     }
-    return m.fusion.with_weights(grid[best]);
+    return *best;
   }
 
   const TouchTable& table_;

@@ -148,6 +148,16 @@ class Fusion {
     return weighted_sum(std::move(terms));
   }
 
+  /// The same expression with every use of classifier `from` replaced by
+  /// classifier `to` (e.g. a variant of it with other settings); weights
+  /// and structure unchanged.
+  Fusion renamed(const std::string& from, const std::string& to) const {
+    if (kind_ == Kind::Classifier) return name_ == from ? classifier(to) : *this;
+    Fusion f = *this;
+    for (auto& c : f.children_) c = c.renamed(from, to);
+    return f;
+  }
+
   /// Distinct classifier names used, in first-use order.
   std::vector<std::string> classifiers() const {
     std::vector<std::string> out;

@@ -125,7 +125,7 @@ class LiveSession {
       throw InvalidArgument("normalization", std::string("live recognition needs l2 normalisation (got ") +
                                                  iclap::to_string(recognizer.normalization()) +
                                                  "): its confidence 1 - d1/d2 needs distances whose 0 is a perfect match");
-    recognizer.check({Method{fusion_.to_string(), fusion_, false}});
+    recognizer.check({Method{fusion_.to_string(), fusion_, false, {}}});
     touches_.positions.resize(3, 0);
   }
 
@@ -250,7 +250,7 @@ class LiveReferences {
         fusion_(std::move(fusion)),
         feature_length_(table.touches.features.rows()) {
     if (table.size() == 0) throw EmptyInput("table", "holds no touch");
-    recognizer_.check({Method{fusion_.to_string(), fusion_, false}});
+    recognizer_.check({Method{fusion_.to_string(), fusion_, false, {}}});
     std::vector<Index> all;
     const std::vector<Index>* use = &train;
     if (train.empty()) {
@@ -348,13 +348,16 @@ template <typename Quantizer>
 LiveWeights choose_live_weights(const TouchTable& table, const ClassifierFactory& factory, const Quantizer& quantizer,
                                 const Method& method, CrossValidationSettings settings,
                                 const ProgressCallback& progress = {}) {
+  if (!method.alternatives.empty())
+    throw InvalidArgument("method", "'" + method.name + "' has alternatives; choose_live_weights chooses weights only "
+                                    "(evaluate_live_stopping chooses among alternatives in each fold)");
   LiveWeights out{method.fusion, {}, 0, 0, 0};
   if (!method.fit_weights) return out;
   settings.validate();
   const auto grid = weight_grid(static_cast<int>(method.fusion.children().size()), settings.weight_steps);
   std::vector<Method> candidates;
   for (std::size_t g = 0; g < grid.size(); ++g)
-    candidates.push_back(Method{"w" + std::to_string(g), method.fusion.with_weights(grid[g]), false});
+    candidates.push_back(Method{"w" + std::to_string(g), method.fusion.with_weights(grid[g]), false, {}});
   settings.weight_sweeps = false;
   settings.repeats = settings.weight_repeats;
   CrossValidation<Quantizer> cv(table, factory, quantizer, candidates, settings);
@@ -534,13 +537,16 @@ LiveEvaluationResult evaluate_live_stopping(const TouchTable& table, const Class
                                             const ProgressCallback& progress = {}) {
   settings.validate();
   const CrossValidationSettings& cvs = settings.cross_validation;
-  if (method.fit_weights)
+  if (method.chosen_in_training())
     for (Index o = 0; o < static_cast<Index>(table.objects.size()); ++o)
       if (table.explorations_of(o).size() < 3)
-        throw InvalidArgument("method", "'" + method.name + "' has fitted weights, chosen in each fold on inner folds of "
-                                        "its training explorations, so every object needs at least 3 explorations "
-                                        "with touches; '" + table.objects[static_cast<std::size_t>(o)] + "' has " +
-                                        std::to_string(table.explorations_of(o).size()) + " (give fixed weights)");
+        throw InvalidArgument("method", "'" + method.name + "' has " +
+                                            (method.fit_weights ? "fitted weights" : "alternatives") +
+                                            ", chosen in each fold on inner folds of "
+                                            "its training explorations, so every object needs at least 3 explorations "
+                                            "with touches; '" + table.objects[static_cast<std::size_t>(o)] + "' has " +
+                                            std::to_string(table.explorations_of(o).size()) +
+                                            (method.fit_weights ? " (give fixed weights)" : ""));
   CrossValidation<Quantizer> cv(table, factory, quantizer, {method}, cvs);
   LiveEvaluationResult out;
   out.random_draws = cv.run(cv_progress);
@@ -563,8 +569,9 @@ LiveEvaluationResult evaluate_live_stopping(const TouchTable& table, const Class
   ProgressCounter counter(progress, total);
 
   for (int f = 0; f < out.folds; ++f) {
-    const Fusion fusion = method.fit_weights ? method.fusion.with_weights(mr.fold_weights.at(static_cast<std::size_t>(f)))
-                                             : method.fusion;
+    const Fusion candidate = method.candidates().at(mr.fold_candidates.at(static_cast<std::size_t>(f)));
+    const Fusion fusion =
+        method.fit_weights ? candidate.with_weights(mr.fold_weights.at(static_cast<std::size_t>(f))) : candidate;
     out.fold_expressions.push_back(fusion.to_string());
     std::vector<Index> train;
     std::vector<std::vector<Index>> held(static_cast<std::size_t>(n_objects));

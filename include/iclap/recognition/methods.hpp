@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <algorithm>
 #include <cctype>
 #include <cstdlib>
 #include <string>
@@ -16,11 +17,67 @@ namespace iclap {
 /// results files): a fusion expression, and whether the weights of its
 /// top-level weighted sum are to be chosen by the brute-force grid
 /// (`fit_weights`) or are fixed as written.
+///
+/// `alternatives` (beyond the paper) are further candidate expressions that
+/// the cross validation chooses among, together with `fusion`, on the
+/// training folds only, exactly as it chooses the weights: typically the
+/// same expression over variants of a classifier with other settings (see
+/// `with_variants`). With `fit_weights`, every candidate is a weighted sum
+/// of as many terms as `fusion`, and the weights are chosen for each.
 struct Method {
   std::string name;
   Fusion fusion;
   bool fit_weights = false;
+  std::vector<Fusion> alternatives;
+
+  /// `fusion`, then the alternatives: the order in which ties are broken.
+  std::vector<Fusion> candidates() const {
+    std::vector<Fusion> out{fusion};
+    out.insert(out.end(), alternatives.begin(), alternatives.end());
+    return out;
+  }
+  /// Does the cross validation choose anything of this method on its
+  /// training folds (weights or a candidate)?
+  bool chosen_in_training() const noexcept { return fit_weights || !alternatives.empty(); }
+  /// Distinct classifiers used by any candidate, in first-use order.
+  std::vector<std::string> classifiers() const {
+    std::vector<std::string> out;
+    for (const auto& f : candidates())
+      for (const auto& c : f.classifiers())
+        if (std::find(out.begin(), out.end(), c) == out.end()) out.push_back(c);
+    return out;
+  }
+  /// Throws InvalidArgument naming "methods" when an alternative cannot take
+  /// fitted weights like `fusion` (not a weighted sum of as many terms).
+  void validate() const {
+    if (!fit_weights) return;
+    for (const auto& a : alternatives)
+      if (a.kind() != Fusion::Kind::WeightedSum || a.children().size() != fusion.children().size())
+        throw InvalidArgument("methods", "method '" + name + "' fits weights, but its alternative " + a.to_string() +
+                                             " is not a weighted sum of " + std::to_string(fusion.children().size()) +
+                                             " terms");
+  }
 };
+
+/// `m` with classifier `classifier` replaced by each of `variants` in turn
+/// (e.g. "patch" by "patch-trim100", "patch-trim50"): one candidate per
+/// variant and per candidate `m` already had, in that order, so applying it
+/// for two classifiers gives every combination. The first candidate becomes
+/// `fusion`, the rest `alternatives`; the name stays. A method that does not
+/// use `classifier` is returned unchanged. Throws EmptyInput naming
+/// "variants" for an empty list.
+inline Method with_variants(const Method& m, const std::string& classifier, const std::vector<std::string>& variants) {
+  if (variants.empty()) throw EmptyInput("variants", "no variant of classifier '" + classifier + "'");
+  const auto used = m.classifiers();
+  if (std::find(used.begin(), used.end(), classifier) == used.end()) return m;
+  std::vector<Fusion> all;
+  for (const auto& c : m.candidates())
+    for (const auto& v : variants) all.push_back(c.renamed(classifier, v));
+  Method out = m;
+  out.fusion = all.front();
+  out.alternatives.assign(all.begin() + 1, all.end());
+  return out;
+}
 
 namespace detail {
 
@@ -126,7 +183,7 @@ inline Method parse_method(const std::string& spec) {
   for (char c : spec)
     if (!std::isspace(static_cast<unsigned char>(c))) name += c;
   auto [fusion, fit] = detail::MethodParser(name).parse();
-  return Method{name, std::move(fusion), fit};
+  return Method{name, std::move(fusion), fit, {}};
 }
 
 /// The paper's eleven methods (Sections IV-VI), in its order: the three

@@ -21,7 +21,7 @@ namespace iclap {
 inline void check_methods_use_known_classifiers(const std::vector<Method>& methods,
                                                 const std::vector<std::string>& available) {
   for (const auto& m : methods)
-    for (const auto& c : m.fusion.classifiers())
+    for (const auto& c : m.classifiers())
       if (std::find(available.begin(), available.end(), c) == available.end()) {
         std::string list;
         for (const auto& a : available) list += (list.empty() ? "" : ", ") + a;
@@ -82,10 +82,11 @@ class Recognizer {
     check_methods_use_known_classifiers(methods, classifier_names());
     if (normalization_ == Normalization::ZScore)
       for (const auto& m : methods)
-        if (has_product(m.fusion))
-          throw InvalidArgument("methods", "method '" + m.name +
-                                               "' multiplies distances, but z-score normalisation makes them signed; "
-                                               "use l2 or minmax");
+        for (const auto& f : m.candidates())
+          if (has_product(f))
+            throw InvalidArgument("methods", "method '" + m.name +
+                                                 "' multiplies distances, but z-score normalisation makes them "
+                                                 "signed; use l2 or minmax");
   }
 
   /// Fits every classifier on the same training touches (one set per object).
