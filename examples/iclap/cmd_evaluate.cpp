@@ -422,8 +422,11 @@ int run_evaluate(const Args& args) {
   std::printf("\ntime per recognition (one test set against all %zu objects, CPU):", r.objects.size());
   for (std::size_t c = 0; c < r.classifiers.size(); ++c) {
     const std::size_t n = r.classifier_tests[c];
-    std::printf(" %s %.3f ms", r.classifiers[c].c_str(), n ? 1e3 * r.classifier_seconds[c] / static_cast<double>(n) : 0.0);
-    if (n != r.tests) std::printf(" (on %zu of %zu test sets)", n, r.tests);
+    if (n == 0)
+      std::printf(" %s not chosen in any fold", r.classifiers[c].c_str());
+    else
+      std::printf(" %s %.3f ms", r.classifiers[c].c_str(), 1e3 * r.classifier_seconds[c] / static_cast<double>(n));
+    if (n != 0 && n != r.tests) std::printf(" (on %zu of %zu test sets)", n, r.tests);
     std::printf("%s", c + 1 < r.classifiers.size() ? "," : "");
   }
   std::printf("\n");
