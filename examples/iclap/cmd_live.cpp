@@ -98,6 +98,7 @@ const std::string kUsage = std::string(
     "  --top N             objects listed per touch (default 3)\n"
     "  --seed S            seed of the codebook and of the weight search's draws (default 1)\n"
     "  --weight-repeats N  draws per case of the weight search (default 2)\n"
+    "  --zero-weights      let the weight grid give a classifier weight 0 (beyond the paper)\n"
     "  --threads N         worker threads of the weight search (default 0: all cores)\n"
     "\n"
     "--cross-validate: fold f holds out the f-th exploration of every object (as\n"
@@ -601,7 +602,7 @@ int run_live_command(const Args& args) {
                         "seed", "weight-repeats", "threads", "port", "pose", "rate", "grid", "replay", "object",
                         "exploration", "simulate", "sim-seed", "unit", "fixed", "repeats", "traces"})
     value_options.insert(v);
-  const Options o(args, value_options, {"cross-validate", "real-time"});
+  const Options o(args, value_options, {"cross-validate", "real-time", "zero-weights"});
   o.expect_positional(0, 0, "no positional arguments (the references are --references FILE.csv)");
   if (!o.has("references")) throw UsageError("missing --references TRAIN.csv");
   Setup setup{RecognitionOptions{}, [&] {
@@ -619,6 +620,7 @@ int run_live_command(const Args& args) {
   setup.cv.seed = static_cast<std::uint64_t>(o.integer("seed", 1, 0));
   setup.ro.codebook_seed = setup.cv.seed;
   setup.cv.weight_repeats = static_cast<int>(o.integer("weight-repeats", 2, 1, 100000));
+  setup.cv.zero_weights = o.flag("zero-weights");
   setup.cv.threads = static_cast<int>(o.integer("threads", 0, 0, 4096));
   const std::vector<std::string> needed = needed_classifiers({setup.method});
   const RecognitionOptions ro = setup.ro;

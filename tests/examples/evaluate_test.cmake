@@ -85,3 +85,12 @@ list(LENGTH lines n)
 if(NOT n EQUAL 3)
   message(FATAL_ERROR "auto-trim results.csv has ${n} lines, expected 1 + 2 methods x 1 touch count")
 endif()
+# Zero weights (--zero-weights): the grid and the sweep include dropping a term.
+run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods icp+bow --touches 5 --repeats 3 --weight-repeats 1 --seed 7
+    --zero-weights --out ${WORK_DIR}/zero)
+expect_match("${out}" "fusion weights chosen on the training folds \\(fold: weights; the grid allows 0\\)")
+file(STRINGS ${WORK_DIR}/zero/sweeps.csv lines)
+list(LENGTH lines n)
+if(NOT n EQUAL 12 OR NOT lines MATCHES "icp\\+bow,0\\*icp\\+1\\*bow,5,")
+  message(FATAL_ERROR "sweeps.csv of the zero-weight run (expected 11 grid rows from 0*icp+1*bow): ${lines}")
+endif()

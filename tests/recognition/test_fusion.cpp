@@ -140,6 +140,17 @@ TEST_CASE("method names, parsing and the weight grid") {
     CHECK(w[0] + w[1] + w[2] == 1.0);
     for (double x : w) CHECK(x >= 0.1 - 1e-12);
   }
+  // Beyond the paper: zero weights drop a classifier.
+  const auto z2 = weight_grid(2, 10, true);
+  REQUIRE(z2.size() == 11);
+  CHECK(z2.front() == std::vector<double>{0.0, 1.0});
+  CHECK(z2.back() == std::vector<double>{1.0, 0.0});
+  const auto z3 = weight_grid(3, 10, true);
+  CHECK(z3.size() == 66);
+  CHECK(z3.front() == std::vector<double>{0.0, 0.0, 1.0});
+  for (const auto& w : z3) CHECK(w[0] + w[1] + w[2] == 1.0);
+  CHECK(weight_grid(4, 3, true).size() == 20);
+  CHECK_THROWS_AS(weight_grid(2, 0, true), InvalidArgument);
   CHECK(weight_grid(1).size() == 1);
   CHECK_THROWS_AS(weight_grid(4, 3), InvalidArgument);
   // Every grid vector is accepted by the method's sum.

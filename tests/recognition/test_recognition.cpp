@@ -254,6 +254,21 @@ TEST_CASE("cross validation chooses among a method's alternatives on the trainin
   CHECK(r.classifier_seconds[3] == 0.0);
   CHECK(r.tests == 4 * 3 * 3 * 3);  // folds x objects x touch counts x repeats
 
+  // Zero weights (beyond the paper): a fitted sum can drop the blind term,
+  // which the paper's grid keeps at 0.1 at least. A constant term never
+  // changes a decision but shrinks the margin, so weight 0 wins the tie.
+  const std::vector<Method> blind_sum = {parse_method("blind+iclap"), parse_method("iclap")};
+  const auto with_floor = CrossValidation<>(t, factory, codebook(4), blind_sum, s).run();
+  s.zero_weights = true;
+  const auto zero = CrossValidation<>(t, factory, codebook(4), blind_sum, s).run();
+  for (std::size_t f = 0; f < 4; ++f) {
+    CHECK(with_floor.methods[0].fold_weights[f] == std::vector<double>{0.1, 0.9});
+    CHECK(zero.methods[0].fold_weights[f] == std::vector<double>{0.0, 1.0});
+  }
+  CHECK(zero.methods[0].correct == zero.methods[1].correct);
+  CHECK(zero.sweeps.at(0).grid.size() == 11);
+  s.zero_weights = false;
+
   // An alternative that cannot take the method's fitted weights is refused.
   Method bad = parse_method("icp+bow");
   bad.alternatives.push_back(Fusion::classifier("blind"));

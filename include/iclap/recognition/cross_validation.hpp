@@ -37,6 +37,10 @@ struct CrossValidationSettings {
   int weight_repeats = 2;
   /// Weight grid resolution: weights are multiples of 1/weight_steps (0.1).
   int weight_steps = 10;
+  /// Let the grid give a classifier weight 0 (beyond the paper, whose grid
+  /// gives every classifier at least one step), so that a fitted fusion can
+  /// drop a classifier that only hurts it; see weight_grid.
+  bool zero_weights = false;
   /// Seed of every random draw (touch subsets; the codebook has its own).
   std::uint64_t seed = 1;
   Normalization normalization = Normalization::L2;
@@ -202,7 +206,8 @@ class CrossValidation {
         WeightSweep s;
         s.method = m.name;
         for (const auto& c : m.fusion.children()) s.terms.push_back(c.to_string());
-        s.grid = weight_grid(static_cast<int>(m.fusion.children().size()), settings_.weight_steps);
+        s.grid = weight_grid(static_cast<int>(m.fusion.children().size()), settings_.weight_steps,
+                             settings_.zero_weights);
         s.correct.assign(s.grid.size(), std::vector<Index>(nt, 0));
         s.total.assign(nt, 0);
         result.sweeps.push_back(std::move(s));
@@ -464,7 +469,8 @@ class CrossValidation {
         }
       };
       if (m.fit_weights) {
-        for (const auto& w : weight_grid(static_cast<int>(candidates[c].children().size()), settings_.weight_steps))
+        for (const auto& w : weight_grid(static_cast<int>(candidates[c].children().size()), settings_.weight_steps,
+                                         settings_.zero_weights))
           consider(candidates[c].with_weights(w));
       } else {
         consider(candidates[c]);

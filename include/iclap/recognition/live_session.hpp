@@ -329,8 +329,9 @@ struct LiveWeights {
 /// Chooses the weights of a method whose top-level weighted sum is fitted
 /// (`a+b` without numbers; Method::fit_weights) for live recognition against
 /// references built from all of `table`: the paper's brute-force grid
-/// (settings.weight_steps), scored by leave-one-exploration-out recognition
-/// on `table` itself (each exploration rank held out of every object in
+/// (settings.weight_steps, settings.zero_weights), scored by
+/// leave-one-exploration-out recognition on `table` itself (each
+/// exploration rank held out of every object in
 /// turn, codebook and references from the rest, `settings.weight_repeats`
 /// random draws of each of `settings.touches` touches). That is
 /// CrossValidation's inner search with the whole table as the training set;
@@ -354,7 +355,8 @@ LiveWeights choose_live_weights(const TouchTable& table, const ClassifierFactory
   LiveWeights out{method.fusion, {}, 0, 0, 0};
   if (!method.fit_weights) return out;
   settings.validate();
-  const auto grid = weight_grid(static_cast<int>(method.fusion.children().size()), settings.weight_steps);
+  const auto grid =
+      weight_grid(static_cast<int>(method.fusion.children().size()), settings.weight_steps, settings.zero_weights);
   std::vector<Method> candidates;
   for (std::size_t g = 0; g < grid.size(); ++g)
     candidates.push_back(Method{"w" + std::to_string(g), method.fusion.with_weights(grid[g]), false, {}});
