@@ -8,6 +8,9 @@
 #   run_expect(0 ...).
 # expect_match(<text> <regex>)
 #   The test fails unless <text> matches <regex>.
+# expect_file_lines(<file> <count> <regex>)
+#   The test fails unless <file> has <count> lines and one of them matches
+#   <regex> ("" matches any).
 function(run_expect expect_exit)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr)
   if(NOT "${rc}" STREQUAL "${expect_exit}")
@@ -24,5 +27,13 @@ endmacro()
 function(expect_match text regex)
   if(NOT "${text}" MATCHES "${regex}")
     message(FATAL_ERROR "output does not match '${regex}':\n${text}")
+  endif()
+endfunction()
+
+function(expect_file_lines file count regex)
+  file(STRINGS ${file} lines)
+  list(LENGTH lines n)
+  if(NOT n EQUAL ${count} OR NOT lines MATCHES "${regex}")
+    message(FATAL_ERROR "${file}: ${n} lines, expected ${count} with one matching '${regex}':\n${lines}")
   endif()
 endfunction()

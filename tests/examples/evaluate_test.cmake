@@ -64,33 +64,18 @@ expect_match("${printed}" "ICP \\(kdtree; at most 50 iterations, relative tolera
 run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods icp,iclap --touches 5 --repeats 3 --seed 7 --trim 0.5,iclap=0.7
     --out ${WORK_DIR}/trimmed)
 expect_match("${out}" "ICP \\(kdtree; at most 50 iterations, relative tolerance 1e-06; trimmed: icp 50%, iclap 70%\\)")
-file(STRINGS ${WORK_DIR}/trimmed/results.csv lines)
-list(LENGTH lines n)
-if(NOT n EQUAL 3)
-  message(FATAL_ERROR "trimmed results.csv has ${n} lines, expected 1 + 2 methods x 1 touch count")
-endif()
+expect_file_lines(${WORK_DIR}/trimmed/results.csv 3 "")  # 1 + 2 methods x 1 touch count
 # Trim chosen on the training folds (--trim NAME=auto): one variant per
 # choice, the chosen one reported per fold, the same rows as any method.
 run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods patch,iclap+patch --touches 5 --repeats 3 --weight-repeats 1
     --seed 7 --trim patch=auto --trim-choices 1,0.5 --out ${WORK_DIR}/auto)
 expect_match("${out}" "trimmed: patch 100%/50% chosen on the training folds\\)")
 expect_match("${out}" "fusions chosen on the training folds \\(fold: fusion\\):\n  patch: \\[0\\] patch-trim(100|50) \\[1\\] patch-trim(100|50) \\[2\\] patch-trim(100|50)\n  iclap\\+patch: \\[0\\] [0-9.]+\\*iclap\\+[0-9.]+\\*patch-trim(100|50) ")
-file(STRINGS ${WORK_DIR}/auto/weights.csv lines)
-list(LENGTH lines n)
-if(NOT n EQUAL 7 OR NOT lines MATCHES "patch,0,patch-trim(100|50)")
-  message(FATAL_ERROR "weights.csv of the auto-trim run: ${lines}")
-endif()
-file(STRINGS ${WORK_DIR}/auto/results.csv lines)
-list(LENGTH lines n)
-if(NOT n EQUAL 3)
-  message(FATAL_ERROR "auto-trim results.csv has ${n} lines, expected 1 + 2 methods x 1 touch count")
-endif()
+expect_file_lines(${WORK_DIR}/auto/weights.csv 7 "patch,0,patch-trim(100|50)")
+expect_file_lines(${WORK_DIR}/auto/results.csv 3 "")
 # Zero weights (--zero-weights): the grid and the sweep include dropping a term.
 run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods icp+bow --touches 5 --repeats 3 --weight-repeats 1 --seed 7
     --zero-weights --out ${WORK_DIR}/zero)
 expect_match("${out}" "fusion weights chosen on the training folds \\(fold: weights; the grid allows 0\\)")
-file(STRINGS ${WORK_DIR}/zero/sweeps.csv lines)
-list(LENGTH lines n)
-if(NOT n EQUAL 12 OR NOT lines MATCHES "icp\\+bow,0\\*icp\\+1\\*bow,5,")
-  message(FATAL_ERROR "sweeps.csv of the zero-weight run (expected 11 grid rows from 0*icp+1*bow): ${lines}")
-endif()
+# 1 + 11 grid rows, from 0*icp+1*bow.
+expect_file_lines(${WORK_DIR}/zero/sweeps.csv 12 "icp\\+bow,0\\*icp\\+1\\*bow,5,")
