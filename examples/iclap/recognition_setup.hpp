@@ -105,6 +105,13 @@ struct RecognitionOptions {
     return true;
   }
 
+  /// Classifier `name`'s variants, one per trim choice.
+  std::vector<std::string> trim_variants(const std::string& name) const {
+    std::vector<std::string> out;
+    for (double f : trim_choices) out.push_back(trim_variant(name, f));
+    return out;
+  }
+
   /// The classifiers to build for `needed` (the methods' own names): each
   /// one whose trim is chosen on the training folds becomes its variants.
   std::vector<std::string> expand_trim_choices(const std::vector<std::string>& needed) const {
@@ -114,7 +121,8 @@ struct RecognitionOptions {
         out.push_back(n);
         continue;
       }
-      for (double f : trim_choices) out.push_back(trim_variant(n, f));
+      const auto variants = trim_variants(n);
+      out.insert(out.end(), variants.begin(), variants.end());
     }
     return out;
   }
@@ -123,11 +131,7 @@ struct RecognitionOptions {
   std::vector<Method> expand_trim_choices(std::vector<Method> methods, const std::vector<std::string>& needed) const {
     for (auto& m : methods)
       for (const auto& n : needed)
-        if (trim_is_auto(n)) {
-          std::vector<std::string> variants;
-          for (double f : trim_choices) variants.push_back(trim_variant(n, f));
-          m = with_variants(m, n, variants);
-        }
+        if (trim_is_auto(n)) m = with_variants(m, n, trim_variants(n));
     return methods;
   }
 
@@ -218,6 +222,17 @@ struct RecognitionOptions {
   /// comma-separated, each name at most once.
   void parse_trim(const std::string& value) {
     bool all_given = false;
+    std::set<std::string> named;
+    // Each item gives the fraction of every classifier, or of one name, at
+    // most once (as a number or as auto).
+    auto once = [&](const std::string& name) {
+      if (name.empty()) {
+        if (all_given) throw UsageError("--trim gives the fraction of every classifier twice");
+        all_given = true;
+      } else if (!named.insert(name).second) {
+        throw UsageError("--trim names '" + name + "' twice");
+      }
+    };
     for (const auto& item : Options::split(value, ',')) {
       const auto eq = item.find('=');
       const std::string name = eq == std::string::npos ? "" : item.substr(0, eq);
@@ -226,25 +241,17 @@ struct RecognitionOptions {
         throw UsageError("--trim " + item + ": '" + name + "' is not a registration classifier (" +
                          Options::join(registration_classifiers(), ", ") + ")");
       if (text == "auto") {
-        if (name.empty()) {
-          if (all_given) throw UsageError("--trim gives the fraction of every classifier twice");
-          trim_auto = all_given = true;
-        } else if (trim_by_name.count(name) || !trim_auto_by_name.insert(name).second) {
-          throw UsageError("--trim names '" + name + "' twice");
-        }
+        once(name);
+        if (name.empty()) trim_auto = true;
+        else trim_auto_by_name.insert(name);
         continue;
       }
       const double f = Options::parse_number(text, "--trim " + item, -std::numeric_limits<double>::infinity(),
                                              std::numeric_limits<double>::infinity());
       if (!(f > 0 && f <= 1)) throw UsageError("--trim " + item + ": the fraction must be in (0, 1]");
-      if (name.empty()) {
-        if (all_given) throw UsageError("--trim gives the fraction of every classifier twice");
-        trim = f;
-        all_given = true;
-        continue;
-      }
-      if (trim_auto_by_name.count(name) || !trim_by_name.emplace(name, f).second)
-        throw UsageError("--trim names '" + name + "' twice");
+      once(name);
+      if (name.empty()) trim = f;
+      else trim_by_name.emplace(name, f);
     }
   }
 };

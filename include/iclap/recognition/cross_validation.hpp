@@ -178,11 +178,11 @@ class CrossValidation {
     }
     // Classifiers the weight and candidate search needs (the only ones
     // computed on inner folds).
+    std::vector<Fusion> searched;
     for (const auto& m : methods_)
       if (m.chosen_in_training())
-        for (const auto& c : m.classifiers())
-          if (std::find(fitted_classifiers_.begin(), fitted_classifiers_.end(), c) == fitted_classifiers_.end())
-            fitted_classifiers_.push_back(c);
+        for (const auto& f : m.candidates()) searched.push_back(f);
+    fitted_classifiers_ = classifiers_of(searched);
   }
 
   int folds() const noexcept { return folds_; }
@@ -271,10 +271,9 @@ class CrossValidation {
       // Outer test on the held-out exploration, with the chosen classifiers.
       Recognizer rec = fitted_recognizer(all, train, k);
       const auto draws = make_draws(f, -1, settings_.repeats, result);
-      std::vector<std::string> used;
-      for (const auto& m : chosen)
-        for (const auto& c : m.fusion.classifiers())
-          if (std::find(used.begin(), used.end(), c) == used.end()) used.push_back(c);
+      std::vector<Fusion> fused;
+      for (const auto& m : chosen) fused.push_back(m.fusion);
+      const std::vector<std::string> used = classifiers_of(fused);
       std::vector<double> seconds;
       const auto tables = compute(rec, all, draws, used, counter, &seconds);
       result.classifiers = rec.classifier_names();

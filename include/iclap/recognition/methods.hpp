@@ -24,6 +24,15 @@ namespace iclap {
 /// same expression over variants of a classifier with other settings (see
 /// `with_variants`). With `fit_weights`, every candidate is a weighted sum
 /// of as many terms as `fusion`, and the weights are chosen for each.
+/// Distinct classifiers used by any of `fusions`, in first-use order.
+inline std::vector<std::string> classifiers_of(const std::vector<Fusion>& fusions) {
+  std::vector<std::string> out;
+  for (const auto& f : fusions)
+    for (const auto& c : f.classifiers())
+      if (std::find(out.begin(), out.end(), c) == out.end()) out.push_back(c);
+  return out;
+}
+
 struct Method {
   std::string name;
   Fusion fusion;
@@ -40,13 +49,7 @@ struct Method {
   /// training folds (weights or a candidate)?
   bool chosen_in_training() const noexcept { return fit_weights || !alternatives.empty(); }
   /// Distinct classifiers used by any candidate, in first-use order.
-  std::vector<std::string> classifiers() const {
-    std::vector<std::string> out;
-    for (const auto& f : candidates())
-      for (const auto& c : f.classifiers())
-        if (std::find(out.begin(), out.end(), c) == out.end()) out.push_back(c);
-    return out;
-  }
+  std::vector<std::string> classifiers() const { return classifiers_of(candidates()); }
   /// Throws InvalidArgument naming "methods" when an alternative cannot take
   /// fitted weights like `fusion` (not a weighted sum of as many terms).
   void validate() const {
