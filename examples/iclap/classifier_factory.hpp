@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "iclap/recognition/bow_classifier.hpp"
+#include "iclap/recognition/height_classifier.hpp"
 #include "iclap/recognition/registration_classifier.hpp"
 #include "recognition_setup.hpp"
 
@@ -83,11 +84,15 @@ std::vector<std::unique_ptr<Classifier>> make_classifiers_for(const RecognitionO
     RecognitionOptions::split_trim_variant(label, name, trim);
     if (name == "bow" && name == label) {
       out.push_back(std::make_unique<BowClassifier>());
+    } else if (name == "height" && name == label) {
+      auto c = std::make_unique<HeightClassifier>();
+      c->tilt_scale = o.tilt_scale;
+      out.push_back(std::move(c));
     } else if (is_registration_classifier(name)) {
       out.push_back(o.search == "brute" ? make_with_search<Scalar, BruteForceSearch>(name, label, o)
                                         : make_with_search<Scalar, KdTreeSearch>(name, label, o));
     } else {
-      throw UsageError("unknown classifier '" + name + "' (known: bow, icp, iclap, iclapn, patch, iclap_patch)");
+      throw UsageError("unknown classifier '" + name + "' (known: bow, height, icp, iclap, iclapn, patch, iclap_patch)");
     }
   }
   return out;

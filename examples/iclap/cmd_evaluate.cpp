@@ -55,8 +55,10 @@ const std::string kUsage = std::string(
     "  --methods LIST|paper|all   comma-separated methods (default paper: bow, icp,\n"
     "                          iclap, icp+bow, icp*bow, iclap+icp, iclap*icp, iclap+bow,\n"
     "                          iclap*bow, iclap+icp+bow, iclap*icp*bow; all adds iclapn,\n"
-    "                          patch, iclap_patch (contact-patch ICP, beyond the paper) and\n"
-    "                          iclap_patch+patch+bow, iclap_patch*patch*bow).\n"
+    "                          patch, iclap_patch (contact-patch ICP, beyond the paper),\n"
+    "                          iclap_patch+patch+bow, iclap_patch*patch*bow and height\n"
+    "                          (heights and tilts of the touches, no registration, beyond\n"
+    "                          the paper)).\n"
     "                          '+' sums with fitted weights, '*' products, or fixed\n"
     "                          weights such as 0.6*iclap+0.2*icp+0.2*bow\n"
     "  --repeats N             random draws per object and number of touches (default 10)\n"
@@ -96,7 +98,7 @@ std::vector<Method> parse_methods(const std::string& text) {
   std::vector<Method> out = paper_methods();
   if (text == "paper") return out;
   if (text == "all") {
-    for (const char* m : {"iclapn", "patch", "iclap_patch", "iclap_patch+patch+bow", "iclap_patch*patch*bow"})
+    for (const char* m : {"iclapn", "patch", "iclap_patch", "iclap_patch+patch+bow", "iclap_patch*patch*bow", "height"})
       out.push_back(parse_method(m));
     return out;
   }
@@ -381,6 +383,10 @@ int run_evaluate(const Args& args) {
     Progress progress("describing touches");
     table = make_touch_table(dataset, ro, std::ref(progress));
   }
+  const bool height = std::find(needed.begin(), needed.end(), "height") != needed.end();
+  if (height && !table.touches.has_normals())
+    throw InvalidArgument(origin, "the height classifier needs the pad orientation (columns qw, qx, qy, qz) of "
+                                  "every contact frame");
 
   const ClassifierFactory factory = [ro, built] { return make_classifiers(ro, built); };
 
@@ -393,6 +399,7 @@ int run_evaluate(const Args& args) {
   std::printf("descriptor %s, k = %ld, transform %s, label scale %g m/word, %s ICP (%s; %s), %d draws per case, seed %llu, %u threads\n\n",
               ro.descriptor.c_str(), static_cast<long>(ro.k), ro.transform.c_str(), ro.label_scale, ro.scalar.c_str(),
               ro.search.c_str(), ro.icp_summary(needed).c_str(), s.repeats, static_cast<unsigned long long>(s.seed), threads);
+  if (height) std::printf("height: tilt scale %g m/rad\n\n", ro.tilt_scale);
   std::fflush(stdout);
   CrossValidationResult r;
   {

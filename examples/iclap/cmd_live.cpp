@@ -623,6 +623,9 @@ int run_live_command(const Args& args) {
   setup.cv.zero_weights = o.flag("zero-weights");
   setup.cv.threads = static_cast<int>(o.integer("threads", 0, 0, 4096));
   const std::vector<std::string> needed = needed_classifiers({setup.method});
+  if (std::find(needed.begin(), needed.end(), "height") != needed.end())
+    throw UsageError("--method " + setup.method.name + ": live sessions pass each touch's position, descriptor and "
+                     "word, not the pad orientation the height classifier needs (iclap evaluate runs it)");
   const RecognitionOptions ro = setup.ro;
   setup.factory = [ro, needed] { return make_classifiers(ro, needed); };
   {

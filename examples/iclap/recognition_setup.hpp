@@ -45,6 +45,7 @@ struct RecognitionOptions {
   std::uint64_t codebook_seed = 1;
   double label_scale = 0.001;        ///< metres per word step (iCLAP's 4th axis)
   double descriptor_scale = 0.01;    ///< metres per descriptor unit (iCLAP-N)
+  double tilt_scale = 0.01;          ///< metres per radian of pad tilt (height)
   int max_iterations = 50;
   double relative_tolerance = 1e-6;
   /// Trimmed ICP (Chetverikov et al.): the motion and the distance use the
@@ -160,7 +161,7 @@ struct RecognitionOptions {
   /// The option names `parse` reads (value options).
   static std::set<std::string> value_options() {
     return {"descriptor", "transform", "scalar", "search", "k", "label-scale", "descriptor-scale",
-            "max-iterations", "relative-tolerance", "trim", "trim-choices", "contact-threshold", "patch-points",
+            "tilt-scale", "max-iterations", "relative-tolerance", "trim", "trim-choices", "contact-threshold", "patch-points",
             "patch-voxel"};
   }
   /// Usage lines of those options.
@@ -173,6 +174,7 @@ struct RecognitionOptions {
            "  --label-scale S         metres per word step on iCLAP's label axis (default 0.001:\n"
            "                          the paper's rig gave millimetres and integer labels)\n"
            "  --descriptor-scale S    metres per descriptor unit for iclapn (default 0.01)\n"
+           "  --tilt-scale S          metres per radian of pad tilt for height (default 0.01)\n"
            "  --scalar float|double   ICP arithmetic (default float)\n"
            "  --search kdtree|brute   closest-point search (default kdtree)\n"
            "  --max-iterations N      ICP iteration cap (default 50)\n"
@@ -197,6 +199,8 @@ struct RecognitionOptions {
     if (!(label_scale > 0)) throw UsageError("--label-scale must be > 0");
     descriptor_scale = o.number("descriptor-scale", descriptor_scale, 0.0);
     if (!(descriptor_scale > 0)) throw UsageError("--descriptor-scale must be > 0");
+    tilt_scale = o.number("tilt-scale", tilt_scale, 0.0);
+    if (!(tilt_scale > 0)) throw UsageError("--tilt-scale must be > 0");
     max_iterations = static_cast<int>(o.integer("max-iterations", max_iterations, 0, 100000));
     relative_tolerance = o.number("relative-tolerance", relative_tolerance, 0.0);
     if (o.has("trim")) parse_trim(o.string("trim"));
@@ -256,8 +260,8 @@ struct RecognitionOptions {
   }
 };
 
-/// The classifiers named in `names` ("bow", "icp", "iclap", "iclapn", "patch",
-/// "iclap_patch"),
+/// The classifiers named in `names` ("bow", "height", "icp", "iclap", "iclapn",
+/// "patch", "iclap_patch"),
 /// configured by `options`. Throws UsageError for an unknown name.
 std::vector<std::unique_ptr<Classifier>> make_classifiers(const RecognitionOptions& options,
                                                           const std::vector<std::string>& names);
@@ -265,7 +269,7 @@ std::vector<std::unique_ptr<Classifier>> make_classifiers(const RecognitionOptio
 /// Every classifier name the commands know, in the order they are built.
 inline const std::vector<std::string>& known_classifiers() {
   static const std::vector<std::string> names = [] {
-    std::vector<std::string> n = {"bow"};
+    std::vector<std::string> n = {"bow", "height"};
     for (const auto& r : registration_classifiers()) n.push_back(r);
     return n;
   }();

@@ -79,3 +79,9 @@ run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods icp+bow --touches 5 --repe
 expect_match("${out}" "fusion weights chosen on the training folds \\(fold: weights; the grid allows 0\\)")
 # 1 + 11 grid rows, from 0*icp+1*bow.
 expect_file_lines(${WORK_DIR}/zero/sweeps.csv 12 "icp\\+bow,0\\*icp\\+1\\*bow,5,")
+# The height classifier (beyond the paper): heights and tilts of the touches,
+# alone and fused; its tilt scale is reported.
+run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods height,height+patch --touches 1,5 --repeats 3 --weight-repeats 1
+    --seed 7 --tilt-scale 0.02 --out ${WORK_DIR}/height)
+expect_match("${out}" "height: tilt scale 0.02 m/rad")
+expect_file_lines(${WORK_DIR}/height/results.csv 5 "height,5,(0(\\.[0-9]+)?|1),")  # 1 + 2 methods x 2 touch counts

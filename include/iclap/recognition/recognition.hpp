@@ -2,7 +2,8 @@
 #pragma once
 
 /// Recognition (paper, Sections III-VI): classifiers that give a distance
-/// from a test touch set to every known object (BoW, ICP, iCLAP, iCLAP-N),
+/// from a test touch set to every known object (BoW, ICP, iCLAP, iCLAP-N,
+/// contact patches, heights and tilts),
 /// their normalisation, fusion policies, the paper's named methods, and the
 /// cross-validation experiment.
 #include "iclap/recognition/bow_classifier.hpp"
@@ -11,6 +12,7 @@
 #include "iclap/recognition/fusion.hpp"
 #include "iclap/recognition/methods.hpp"
 #include "iclap/recognition/normalization.hpp"
+#include "iclap/recognition/height_classifier.hpp"
 #include "iclap/recognition/recognizer.hpp"
 #include "iclap/recognition/registration_classifier.hpp"
 #include "iclap/recognition/touch_set.hpp"

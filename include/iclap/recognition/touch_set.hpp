@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -18,22 +19,29 @@ namespace iclap {
 /// codebook's label of that descriptor). Column / element i is touch i.
 /// A classifier reads only what it needs (ICP: positions; BoW: words;
 /// iCLAP: positions and words; iCLAP-N: positions and features; the patch
-/// classifiers: contact points).
+/// classifiers: contact points; the height classifier: positions and normals).
 ///
 /// Contact points (optional) are where the object met the pad: the world
 /// positions of the taxels of each touch that were pressed, so one touch
 /// tells of a patch of surface instead of one point. Touch i owns columns
 /// [contact_offsets[i], contact_offsets[i + 1]) of `contact_points`;
 /// `contact_offsets` is empty when no touch has them.
+///
+/// Normals (optional) are the pad's normal at each touch: the unit z axis of
+/// the pad frame in the world, pointing from the pad into the object (world
+/// -z when the pad presses straight down); empty when the touches carry no
+/// orientation.
 struct TouchSet {
   Eigen::Matrix3Xd positions;
   Eigen::MatrixXf features;
   WordIds words;
   Eigen::Matrix3Xd contact_points;
   std::vector<Index> contact_offsets;
+  Eigen::Matrix3Xd normals;
 
   Index size() const noexcept { return positions.cols(); }
   bool has_contacts() const noexcept { return !contact_offsets.empty(); }
+  bool has_normals() const noexcept { return normals.cols() > 0; }
   /// Number of contact points of touch i (0 without contact points).
   Index contacts_of(Index i) const {
     return has_contacts() ? contact_offsets[static_cast<std::size_t>(i) + 1] - contact_offsets[static_cast<std::size_t>(i)]
@@ -62,6 +70,14 @@ struct TouchSet {
                                   std::to_string(contact_points.cols()) + ")");
       check_finite(contact_points, argument + ".contact_points");
     }
+    if (has_normals()) {
+      check_dimension(normals.cols(), positions.cols(), argument + ".normals (touches)");
+      check_finite(normals, argument + ".normals");
+      for (Index i = 0; i < normals.cols(); ++i)
+        if (std::abs(normals.col(i).norm() - 1.0) > 1e-6)
+          throw InvalidArgument(argument + ".normals", "column " + std::to_string(i) + " is not a unit vector (norm " +
+                                                           std::to_string(normals.col(i).norm()) + ")");
+    }
   }
 };
 
@@ -73,12 +89,14 @@ TouchSet select_touches(const TouchSet& source, const Indices& indices) {
   out.positions.resize(3, n);
   if (source.features.size() > 0) out.features.resize(source.features.rows(), n);
   if (source.words.size() > 0) out.words.resize(n);
+  if (source.has_normals()) out.normals.resize(3, n);
   Index j = 0;
   for (const auto i : indices) {
     const auto s = static_cast<Index>(i);
     out.positions.col(j) = source.positions.col(s);
     if (source.features.size() > 0) out.features.col(j) = source.features.col(s);
     if (source.words.size() > 0) out.words(j) = source.words(s);
+    if (source.has_normals()) out.normals.col(j) = source.normals.col(s);
     ++j;
   }
   if (source.has_contacts()) {

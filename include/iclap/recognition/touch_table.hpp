@@ -105,7 +105,8 @@ inline Index append_contact_points(const Frame& frame, double threshold, double 
 /// Builds the touch table of `dataset`: keeps the frames whose largest taxel
 /// is above `contact_threshold` (raw units) and runs `descriptor` on each;
 /// for frames with an orientation, also their contact points
-/// (`append_contact_points`, pitch from `taxel_pitch_of`).
+/// (`append_contact_points`, pitch from `taxel_pitch_of`); when every
+/// contact frame has an orientation, the pad normals (`TouchSet::normals`).
 /// Throws EmptyInput naming "dataset" when no frame is a contact.
 /// `progress` gets (frames done, frames).
 template <typename Descriptor>
@@ -131,7 +132,10 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
   const double pitch = taxel_pitch_of(dataset);
   std::vector<Eigen::Vector3d> contacts;
   std::vector<Index> offsets{0};
+  bool oriented = true;
+  for (const std::size_t i : kept) oriented = oriented && dataset.frames[i].orientation.has_value();
   t.touches.positions.resize(3, n);
+  if (oriented) t.touches.normals.resize(3, n);
   t.object.resize(kept.size());
   t.exploration.resize(kept.size());
   t.frame.resize(kept.size());
@@ -139,6 +143,7 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
     const Frame& f = dataset.frames[kept[static_cast<std::size_t>(j)]];
     const auto ju = static_cast<std::size_t>(j);
     t.touches.positions.col(j) = f.position;
+    if (oriented) t.touches.normals.col(j) = f.orientation->normalized() * Eigen::Vector3d::UnitZ();
     t.object[ju] = index[f.object];
     t.exploration[ju] = f.exploration;
     t.frame[ju] = f.frame;
