@@ -162,6 +162,9 @@ std::vector<Setting> grid() {
                  return std::unique_ptr<Classifier>(
                      std::make_unique<PrunedVote<PatchClassifier<float, Planar>>>(std::move(c), PruningSettings{}));
                }});
+  // No registration (beyond the paper): each touch's height and pad tilt.
+  s.push_back({"no registration", "height and tilt, 1 cm/rad", "sift", 50,
+               [] { return std::unique_ptr<Classifier>(std::make_unique<HeightClassifier>()); }});
   return s;
 }
 
