@@ -92,7 +92,7 @@ std::vector<std::unique_ptr<Classifier>> make_classifiers_for(const RecognitionO
       out.push_back(o.search == "brute" ? make_with_search<Scalar, BruteForceSearch>(name, label, o)
                                         : make_with_search<Scalar, KdTreeSearch>(name, label, o));
     } else {
-      throw UsageError("unknown classifier '" + name + "' (known: bow, height, icp, iclap, iclapn, patch, iclap_patch)");
+      throw UsageError("unknown classifier '" + name + "' (known: " + Options::join(known_classifiers(), ", ") + ")");
     }
   }
   return out;
