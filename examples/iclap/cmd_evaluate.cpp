@@ -383,10 +383,7 @@ int run_evaluate(const Args& args) {
     Progress progress("describing touches");
     table = make_touch_table(dataset, ro, std::ref(progress));
   }
-  const bool height = std::find(needed.begin(), needed.end(), "height") != needed.end();
-  if (height && !table.touches.has_normals())
-    throw InvalidArgument(origin, "the height classifier needs the pad orientation (columns qw, qx, qy, qz) of "
-                                  "every contact frame");
+  check_orientation(needed, table, origin);
 
   const ClassifierFactory factory = [ro, built] { return make_classifiers(ro, built); };
 
@@ -399,7 +396,7 @@ int run_evaluate(const Args& args) {
   std::printf("descriptor %s, k = %ld, transform %s, label scale %g m/word, %s ICP (%s; %s), %d draws per case, seed %llu, %u threads\n\n",
               ro.descriptor.c_str(), static_cast<long>(ro.k), ro.transform.c_str(), ro.label_scale, ro.scalar.c_str(),
               ro.search.c_str(), ro.icp_summary(needed).c_str(), s.repeats, static_cast<unsigned long long>(s.seed), threads);
-  if (height) std::printf("height: tilt scale %g m/rad\n\n", ro.tilt_scale);
+  if (std::find(needed.begin(), needed.end(), "height") != needed.end()) std::printf("height: tilt scale %g m/rad\n\n", ro.tilt_scale);
   std::fflush(stdout);
   CrossValidationResult r;
   {

@@ -90,7 +90,10 @@ const std::string kUsage = std::string(
     "\n"
     "options:\n"
     "  --method M          fusion method (default iclap+icp+bow); any expression of\n"
-    "                      bow, icp, iclap, iclapn with + (weighted sum), * (product)\n"
+    "                      bow, icp, iclap, iclapn, patch, iclap_patch and height with\n"
+    "                      + (weighted sum), * (product); height and the patch\n"
+    "                      classifiers need the pad orientation (qw..qz) in TRAIN.csv\n"
+    "                      and from the source\n"
     "  --confidence C      stop threshold in [0, 1] (default 0.5); with --cross-validate\n"
     "                      a list (default 0.1,0.2,0.3,0.4,0.5,0.6)\n"
     "  --min-touches N     never stop before N touches (default 1)\n"
@@ -439,6 +442,16 @@ int run_live(const Options& o, const Setup& setup, const std::string& path, cons
   std::optional<rig::Grid> grid_override;
   if (o.has("grid")) grid_override = rig::parse_grid(o.string("grid"), "--grid");
   LiveSource src = make_source(o);  // validates every source option (opens the port, no traffic yet)
+  {  // Before the references are built and the sensor streams.
+    const std::vector<std::string> oriented = orientation_classifiers(needed_classifiers({setup.method}));
+    const bool has = src.sensor ? src.poses->has_orientation() : src.source->has_orientation();
+    if (!oriented.empty() && !has)
+      throw UsageError("--method " + setup.method.name + ": the " + oriented.front() +
+                       " classifier needs the pad orientation, which the source does not give" +
+                       (src.sensor ? " (give a --pose with orientation: omni, replay of a file with qw..qz, or "
+                                     "fixed:X,Y,Z,QW,QX,QY,QZ)"
+                                   : " (" + src.source->description() + " has no qw..qz)"));
+  }
 
   // The references (and the weights) before the sensor streams.
   std::printf("iclap %s live\nreferences: %s: %zu objects, %ld touches (contact threshold %g)\n", ICLAP_VERSION_STRING,
@@ -488,6 +501,7 @@ int run_live(const Options& o, const Setup& setup, const std::string& path, cons
     throw UsageError("the source's taxel grid " + rig::to_string(grid) + " differs from the references' " +
                      std::to_string(dataset.rows) + "x" + std::to_string(dataset.cols) +
                      (src.sensor ? " (--grid ROWSxCOLS overrides the sensor's)" : ""));
+  const double pitch = taxel_pitch_of(dataset);
   std::printf("source: %s\n", src.source->description().c_str());
   std::fflush(stdout);
 
@@ -554,8 +568,11 @@ int run_live(const Options& o, const Setup& setup, const std::string& path, cons
       last_frame_at = std::chrono::steady_clock::now();
       frame.pressures = pf.pressures;
       if (!is_contact(frame, setup.ro.contact_threshold)) continue;
-      const Eigen::VectorXf feature = describe(pf.pressures, setup.ro);
-      stop = session.add_touch(pf.pose.position, feature, refs.word(feature));
+      Eigen::VectorXf feature = describe(pf.pressures, setup.ro);
+      const Index word = refs.word(feature);
+      frame.position = pf.pose.position;
+      frame.orientation = pf.pose.orientation;
+      stop = session.add_touch(live_touch_of(frame, setup.ro.contact_threshold, pitch, std::move(feature), word));
       std::printf("touch %ld (frame %zu): %s, confidence %s", static_cast<long>(session.touches()), frames,
                   names[static_cast<std::size_t>(session.best())].c_str(), fixed3(session.confidence()).c_str());
       if (top > 0) {
@@ -623,9 +640,6 @@ int run_live_command(const Args& args) {
   setup.cv.zero_weights = o.flag("zero-weights");
   setup.cv.threads = static_cast<int>(o.integer("threads", 0, 0, 4096));
   const std::vector<std::string> needed = needed_classifiers({setup.method});
-  if (std::find(needed.begin(), needed.end(), "height") != needed.end())
-    throw UsageError("--method " + setup.method.name + ": live sessions pass each touch's position, descriptor and "
-                     "word, not the pad orientation the height classifier needs (iclap evaluate runs it)");
   const RecognitionOptions ro = setup.ro;
   setup.factory = [ro, needed] { return make_classifiers(ro, needed); };
   {
@@ -651,6 +665,7 @@ int run_live_command(const Args& args) {
     Progress progress("describing reference touches");
     table = cli::make_touch_table(dataset, setup.ro, std::ref(progress));
   }
+  check_orientation(needed, table, path, /*every_frame=*/true);
   return cross_validate ? run_cross_validation(o, setup, path, dataset, table) : run_live(o, setup, path, dataset, table);
 }
 

@@ -297,6 +297,29 @@ inline std::vector<std::string> needed_classifiers(const std::vector<Method>& me
   return out;
 }
 
+/// The classifiers among `needed` that read the pad orientation: height
+/// (the pad normals) and the patch classifiers (the contact points).
+inline std::vector<std::string> orientation_classifiers(const std::vector<std::string>& needed) {
+  std::vector<std::string> out;
+  for (const auto& c : needed)
+    if (c == "height" || c == "patch" || c == "iclap_patch") out.push_back(c);
+  return out;
+}
+
+/// Throws InvalidArgument naming `origin` when a classifier among `needed`
+/// needs the pad orientation that the touches of `table` lack. Height needs
+/// it on every contact frame, the patch classifiers on some, or on every
+/// one with `every_frame` (live sessions carry it on every touch or none).
+inline void check_orientation(const std::vector<std::string>& needed, const TouchTable& table,
+                              const std::string& origin, bool every_frame = false) {
+  for (const auto& c : orientation_classifiers(needed)) {
+    const bool every = every_frame || c == "height";
+    if (!(every ? table.touches.has_normals() : table.touches.has_contacts()))
+      throw InvalidArgument(origin, "the " + c + " classifier needs the pad orientation (columns qw, qx, qy, qz) of " +
+                                        (every ? "every contact frame" : "the contact frames"));
+  }
+}
+
 /// The touches of `dataset` described by the chosen descriptor.
 TouchTable make_touch_table(const Dataset& dataset, const RecognitionOptions& options,
                             const ProgressCallback& progress = {});

@@ -159,6 +159,118 @@ TEST_CASE("live session: the stop rule") {
   }
 }
 
+namespace {
+
+/// The shared table with a pad normal and three contact points per touch:
+/// each object tilts its pad by its own amount, so height tells them apart.
+TouchTable oriented_table(std::uint64_t seed) {
+  TouchTable t = synthetic_table(seed);
+  Rng rng(seed + 100);
+  const Index n = t.size();
+  t.touches.normals.resize(3, n);
+  t.touches.contact_points.resize(3, 3 * n);
+  t.touches.contact_offsets = {0};
+  for (Index i = 0; i < n; ++i) {
+    const double tilt = 0.2 * static_cast<double>(t.object[static_cast<std::size_t>(i)] + 1) + rng.uniform(0, 0.05);
+    const double azimuth = rng.uniform(-3.0, 3.0);
+    t.touches.normals.col(i) = Eigen::Vector3d(std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth),
+                                               -std::cos(tilt));
+    for (Index k = 0; k < 3; ++k)
+      t.touches.contact_points.col(3 * i + k) =
+          t.touches.positions.col(i) + Eigen::Vector3d(0.002 * static_cast<double>(k - 1), 0.001 * static_cast<double>(k), 0);
+    t.touches.contact_offsets.push_back(3 * (i + 1));
+  }
+  t.touches.validate("oriented table");
+  return t;
+}
+
+std::vector<std::unique_ptr<Classifier>> oriented_classifiers() {
+  std::vector<std::unique_ptr<Classifier>> cs;
+  cs.push_back(std::make_unique<BowClassifier>());
+  cs.push_back(std::make_unique<HeightClassifier>());
+  cs.push_back(std::make_unique<PatchClassifier<float, Planar>>());
+  return cs;
+}
+
+}  // namespace
+
+TEST_CASE("live session: touches with the pad orientation feed height and patch, as from scratch") {
+  const TouchTable t = oriented_table(4);
+  std::vector<Index> held, train;
+  split(t, 13, held, train);
+  const Fusion fusion = parse_method("0.4*height+0.4*patch+0.2*bow").fusion;
+  const LiveReferences<> refs(t, train, oriented_classifiers, codebook(), fusion);
+  TouchSet all = t.touches;
+  all.words = assign_words(refs.quantizer(), t.touches.features);
+  for (Index o = 0; o < 3; ++o) {
+    CAPTURE(o);
+    const auto test = of_object(t, held, o);
+    LiveSession s = refs.session(LiveStopRule{1.0, 1, 0});
+    for (std::size_t n = 1; n <= test.size(); ++n) {
+      const Index i = test[n - 1];
+      const LiveTouch touch = live_touch_of(t.touches, i, all.words(i));
+      REQUIRE(touch.normal);
+      CHECK(*touch.normal == Eigen::Vector3d(t.touches.normals.col(i)));
+      CHECK(touch.contact_points == t.touches.contact_points.middleCols(3 * i, 3));
+      s.add_touch(touch);
+      const std::vector<Index> first(test.begin(), test.begin() + static_cast<std::ptrdiff_t>(n));
+      const DistanceTable d = refs.recognizer().distances(select_touches(all, first));
+      for (const char* c : {"bow", "height", "patch"}) {
+        CAPTURE(c);
+        CHECK(s.distances().get(c) == d.get(c));
+      }
+      CHECK(s.fused() == fusion.evaluate(d));
+    }
+    CHECK(s.touch_set().normals.cols() == static_cast<Index>(test.size()));
+    CHECK(s.touch_set().contact_points.cols() == 3 * static_cast<Index>(test.size()));
+    CHECK(s.best() == o);
+  }
+
+  // Every touch of a session carries the pad orientation, or none does.
+  LiveSession s = refs.session();
+  const LiveTouch full = live_touch_of(t.touches, held.front(), 0);
+  LiveTouch bare = live_touch_of(t.touches, held.front(), 0);
+  bare.normal.reset();
+  CHECK_THROWS_WITH_AS(s.add_touch(bare), doctest::Contains("height"), InvalidArgument);  // the classifier's own check
+  CHECK(s.touches() == 0);
+  s.add_touch(full);
+  CHECK_THROWS_WITH_AS(s.add_touch(bare), "normal: touch 2 has no pad normal but the earlier touches have one",
+                       InvalidArgument);
+  LiveTouch long_normal = live_touch_of(t.touches, held.front(), 0);
+  long_normal.normal = Eigen::Vector3d(0, 0, -1.1);
+  CHECK_THROWS_WITH_AS(s.add_touch(long_normal), doctest::Contains("normal: is not a unit vector"), InvalidArgument);
+  LiveTouch nan_contact = live_touch_of(t.touches, held.front(), 0);
+  nan_contact.contact_points(0, 1) = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_AS(s.add_touch(nan_contact), NonFiniteValue);
+  CHECK(s.touches() == 1);  // nothing changed
+  CHECK_NOTHROW(s.add_touch(full));
+  CHECK(s.touches() == 2);
+  CHECK(s.touch_set().contact_offsets == std::vector<Index>{0, 3, 6});
+  CHECK_THROWS_AS(live_touch_of(t.touches, t.size(), 0), InvalidArgument);
+
+  // A frame with an orientation gives its pad normal and its pressed taxels.
+  Frame f;
+  f.position = Eigen::Vector3d(0.1, 0.2, 0.03);
+  f.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()));
+  f.pressures = Eigen::MatrixXd::Zero(14, 6);
+  f.pressures(2, 3) = 90;
+  f.pressures(7, 1) = 10;  // below the threshold
+  const LiveTouch from_frame = live_touch_of(f, 20.0, 0.0034, Eigen::VectorXf::Ones(4), 2);
+  REQUIRE(from_frame.normal);
+  CHECK((*from_frame.normal - Eigen::Vector3d(0, -std::sin(0.3), std::cos(0.3))).norm() < 1e-12);
+  std::vector<Eigen::Vector3d> expected;
+  append_contact_points(f, 20.0, 0.0034, expected);
+  REQUIRE(expected.size() == 1);
+  REQUIRE(from_frame.contact_points.cols() == 1);
+  CHECK(from_frame.contact_points.col(0) == expected[0]);
+  CHECK(from_frame.position == f.position);
+  CHECK(from_frame.word == 2);
+  f.orientation.reset();
+  const LiveTouch unoriented = live_touch_of(f, 20.0, 0.0034, Eigen::VectorXf::Ones(4), 2);
+  CHECK_FALSE(unoriented.normal);
+  CHECK(unoriented.contact_points.cols() == 0);
+}
+
 TEST_CASE("live session: empty state and errors") {
   const TouchTable t = synthetic_table(3);
   std::vector<Index> held, train;

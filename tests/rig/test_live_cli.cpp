@@ -338,6 +338,25 @@ TEST_CASE("iclap live --replay and --simulate") {
     CHECK(lines_starting_with(r.out, "touch ").size() == 5);
     CHECK(!lines_starting_with(r.out, "truth: c_clamp (").empty());
   }
+  {  // Height and contact patches (beyond the paper) from the replayed frames' pad orientation.
+    const auto r = run_iclap({"live", "--references", kTrain, "--method", "0.5*height+0.5*patch", "--replay", kScissors,
+                              "--confidence", "1", "--max-touches", "3", "--top", "4"},
+                             scratch);
+    INFO(r.out);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    const auto touches = lines_starting_with(r.out, "touch ");
+    REQUIRE(!touches.empty());
+    CHECK(touches.size() <= 3);
+    CHECK(std::count(touches[0].begin(), touches[0].end(), ',') == 4);  // "confidence", then 4 objects
+    CHECK(!lines_starting_with(r.out, "truth: scissors (").empty());
+    const auto cv = run_iclap({"live", "--references", kTrain, "--cross-validate", "--method", "0.5*height+0.5*patch",
+                               "--max-touches", "3", "--fixed", "1,3", "--repeats", "1"},
+                              scratch);
+    INFO(cv.err);
+    REQUIRE(cv.status == 0);
+    CHECK(cv.out.find("8 held-out explorations replayed") != std::string::npos);
+  }
   {  // A mesh file, its unit from meshes.json beside it: not a reference object.
     const std::string mesh = ICLAP_SHARED_DIR "/data/meshes/wt_rubber_mallet.ply";
     if (fs::exists(mesh)) {
@@ -404,8 +423,22 @@ TEST_CASE("iclap live: bad input exits 2 with a clear message") {
   f.pressures = Eigen::MatrixXd::Constant(2, 2, 100.0);
   small.frames.push_back(f);
   iclap::write_dataset_csv(scratch("grid2x2.csv"), small);
+  // The references and a replay without the pad orientation.
+  auto strip_orientation = [&](const std::string& from, const std::string& to) {
+    iclap::Dataset d = iclap::read_dataset_csv(from);
+    for (auto& fr : d.frames) fr.orientation.reset();
+    iclap::write_dataset_csv(scratch(to), d);
+  };
+  strip_orientation(kTrain, "train_no_pose.csv");
+  strip_orientation(kClamp, "clamp_no_pose.csv");
   const std::string refs = kTrain;
   const test::UsageCases cases = {
+      {{"live", "--references", scratch("train_no_pose.csv"), "--method", "height", "--replay", kClamp},
+       scratch("train_no_pose.csv") + ": the height classifier needs the pad orientation (columns qw, qx, qy, qz)"},
+      {{"live", "--references", scratch("train_no_pose.csv"), "--method", "0.5*bow+0.5*patch", "--replay", kClamp},
+       "the patch classifier needs the pad orientation"},
+      {{"live", "--references", refs, "--method", "0.5*icp+0.5*height", "--replay", scratch("clamp_no_pose.csv")},
+       "the height classifier needs the pad orientation, which the source does not give (replay of "},
       {{"live", "--replay", kClamp}, "missing --references"},
       {{"live", "--references", refs}, "no source"},
       {{"live", "--references", refs, "--replay", kClamp, "--simulate", "hammer"}, "exclude each other"},

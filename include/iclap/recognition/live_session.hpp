@@ -11,6 +11,9 @@
 ///    fitted recogniser, the fusion to apply).
 ///  - LiveSession: the touches of one exploration so far and the ranking
 ///    they give; add_touch() recomputes it.
+///  - LiveTouch: one touch as a session receives it (position, descriptor,
+///    word and, when the pad orientation is known, the pad normal and the
+///    contact points that the height and patch classifiers need).
 ///  - LiveStopRule: when to stop (confidence threshold, touch limits).
 ///  - choose_live_weights(): fusion weights for a method whose weights are
 ///    fitted, by leave-one-exploration-out grid search on the references
@@ -23,6 +26,7 @@
 #include <cstdint>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -44,6 +48,62 @@
 #include "iclap/tactile/quantizer.hpp"
 
 namespace iclap {
+
+/// One touch as a live session receives it. `position`: pad centre
+/// (metres, the references' frame); `feature`: its descriptor (may be empty
+/// when no classifier of the fusion reads descriptors); `word`: its codebook
+/// word. When the pad orientation is known (a dataset with qw..qz, the
+/// Phantom Omni's gimbal), `normal` is the pad's z axis in the world (unit;
+/// the height classifier needs it) and `contact_points` the world positions
+/// of the pressed taxels (`append_contact_points`; the patch classifiers
+/// need them, and a touch without any stands for one at its position).
+/// Without a normal the orientation is unknown and `contact_points` is
+/// ignored. Build one with `live_touch_of`.
+struct LiveTouch {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::VectorXf feature;
+  Index word = 0;
+  std::optional<Eigen::Vector3d> normal;
+  Eigen::Matrix3Xd contact_points;
+};
+
+/// The touch of a contact frame: its position and, when the frame has an
+/// orientation, the pad normal and the taxels above `contact_threshold` placed
+/// with `pitch` (as `make_touch_table` does); `feature` and `word` are the
+/// caller's.
+inline LiveTouch live_touch_of(const Frame& frame, double contact_threshold, double pitch, Eigen::VectorXf feature,
+                               Index word) {
+  LiveTouch t;
+  t.position = frame.position;
+  t.feature = std::move(feature);
+  t.word = word;
+  if (frame.orientation) {
+    t.normal = frame.orientation->normalized() * Eigen::Vector3d::UnitZ();
+    std::vector<Eigen::Vector3d> points;
+    append_contact_points(frame, contact_threshold, pitch, points);
+    t.contact_points.resize(3, static_cast<Index>(points.size()));
+    for (std::size_t k = 0; k < points.size(); ++k) t.contact_points.col(static_cast<Index>(k)) = points[k];
+  }
+  return t;
+}
+
+/// Touch `i` of `touches` (position, descriptor, and the normal and contact
+/// points when the set has normals) with codebook word `word`.
+inline LiveTouch live_touch_of(const TouchSet& touches, Index i, Index word) {
+  if (i < 0 || i >= touches.size())
+    throw InvalidArgument("i", "touch " + std::to_string(i) + " is outside [0, " + std::to_string(touches.size()) + ")");
+  LiveTouch t;
+  t.position = touches.positions.col(i);
+  if (touches.features.size() > 0) t.feature = touches.features.col(i);
+  t.word = word;
+  if (touches.has_normals()) t.normal = touches.normals.col(i).eval();
+  if (touches.has_normals() && touches.has_contacts()) {
+    const Index begin = touches.contact_offsets[static_cast<std::size_t>(i)];
+    const Index end = touches.contact_offsets[static_cast<std::size_t>(i) + 1];
+    t.contact_points = touches.contact_points.middleCols(begin, end - begin);
+  }
+  return t;
+}
 
 /// When a live exploration stops: as soon as the decision's confidence
 /// (decision_confidence of the fused distances) reaches `confidence` after
@@ -91,7 +151,8 @@ inline std::vector<Index> rank_objects(const Eigen::Ref<const Eigen::VectorXd>& 
 }
 
 /// The incremental recognition state of one live exploration: the touches
-/// so far (positions, descriptors, words) and, after each add_touch(), the
+/// so far (positions, descriptors, words, and normals and contact points when
+/// the pad orientation is known) and, after each add_touch(), the
 /// normalised distances of every classifier the fusion uses, the fused
 /// distances, the ranking, the best guess and its confidence.
 ///
@@ -129,29 +190,52 @@ class LiveSession {
     touches_.positions.resize(3, 0);
   }
 
-  /// Adds one touch and updates the ranking. `position`: pad centre
-  /// (metres, the references' frame); `feature`: its descriptor (may be
-  /// empty when no classifier of the fusion reads descriptors, but the same
-  /// length for every touch of a session); `word`: its codebook word in
-  /// [0, vocabulary). Throws NonFiniteValue / DimensionMismatch /
-  /// InvalidArgument naming the argument; the session is unchanged then.
-  LiveStop add_touch(const Eigen::Vector3d& position, const Eigen::Ref<const Eigen::VectorXf>& feature, Index word) {
-    check_finite(position, "position");
-    check_finite(feature, "feature");
-    if (word < 0 || (vocabulary_ > 0 && word >= vocabulary_))
-      throw InvalidArgument("word", std::to_string(word) + " is outside [0, " +
+  /// Adds one touch and updates the ranking. Every touch of a session
+  /// carries the same information: descriptors of one length, and the pad
+  /// orientation (a normal, with the contact points) on every touch or on
+  /// none (the first touch decides). Throws NonFiniteValue /
+  /// DimensionMismatch / InvalidArgument naming the field ("position",
+  /// "feature", "word", "normal", "contact_points"), and whatever the
+  /// classifiers throw for a touch they cannot use (e.g. height without a
+  /// normal); the session is unchanged then.
+  LiveStop add_touch(const LiveTouch& touch) {
+    check_finite(touch.position, "position");
+    check_finite(touch.feature, "feature");
+    if (touch.word < 0 || (vocabulary_ > 0 && touch.word >= vocabulary_))
+      throw InvalidArgument("word", std::to_string(touch.word) + " is outside [0, " +
                                         (vocabulary_ > 0 ? std::to_string(vocabulary_) : std::string("inf")) + ")");
     const Index n = touches_.size();
-    if (n > 0) check_dimension(feature.size(), touches_.features.rows(), "feature");
+    if (n > 0) check_dimension(touch.feature.size(), touches_.features.rows(), "feature");
+    if (touch.normal) {
+      check_finite(*touch.normal, "normal");
+      if (std::abs(touch.normal->norm() - 1.0) > 1e-6)
+        throw InvalidArgument("normal", "is not a unit vector (norm " + std::to_string(touch.normal->norm()) + ")");
+    }
+    if (touch.normal) check_finite(touch.contact_points, "contact_points");
+    if (n > 0 && touch.normal.has_value() != touches_.has_normals())
+      throw InvalidArgument("normal", std::string("touch ") + std::to_string(n + 1) +
+                                          (touch.normal ? " has a pad normal but the earlier touches have none"
+                                                        : " has no pad normal but the earlier touches have one"));
     TouchSet next = touches_;
     next.positions.conservativeResize(3, n + 1);
-    next.positions.col(n) = position;
-    if (feature.size() > 0) {
-      next.features.conservativeResize(feature.size(), n + 1);
-      next.features.col(n) = feature;
+    next.positions.col(n) = touch.position;
+    if (touch.feature.size() > 0) {
+      next.features.conservativeResize(touch.feature.size(), n + 1);
+      next.features.col(n) = touch.feature;
     }
     next.words.conservativeResize(n + 1);
-    next.words(n) = word;
+    next.words(n) = touch.word;
+    if (touch.normal) {
+      next.normals.conservativeResize(3, n + 1);
+      next.normals.col(n) = *touch.normal;
+    }
+    if (touch.normal) {
+      const Index m = touch.contact_points.cols(), c = next.contact_points.cols();
+      if (n == 0) next.contact_offsets.assign(1, 0);
+      next.contact_points.conservativeResize(3, c + m);
+      next.contact_points.rightCols(m) = touch.contact_points;
+      next.contact_offsets.push_back(c + m);
+    }
     DistanceTable table = recognizer_->distances(next, only_);  // throws before anything changes
     Eigen::VectorXd fused = fusion_.evaluate(table);
     touches_ = std::move(next);
@@ -161,6 +245,16 @@ class LiveSession {
     confidence_ = decision_confidence(fused_);
     history_.push_back(Step{ranking_.front(), confidence_});
     return stop();
+  }
+
+  /// A touch without pad orientation: `add_touch(LiveTouch{position,
+  /// feature, word})`.
+  LiveStop add_touch(const Eigen::Vector3d& position, const Eigen::Ref<const Eigen::VectorXf>& feature, Index word) {
+    LiveTouch t;
+    t.position = position;
+    t.feature = feature;
+    t.word = word;
+    return add_touch(t);
   }
 
   /// Forgets every touch (a new exploration with the same references).
@@ -519,7 +613,8 @@ struct LiveEvaluationResult {
 /// every object, as in CrossValidation (same folds, same training touches,
 /// same codebook, the weights CrossValidation chose for the fold); the
 /// references come from the other explorations; each held-out exploration
-/// is replayed in time order (frame index), one touch at a time, up to
+/// is replayed in time order (frame index), one touch at a time (with its
+/// pad normal and contact points when the table has them), up to
 /// settings.max_touches, and the session's state after every touch is
 /// recorded. Any stop rule and fixed count are then read off the traces
 /// (LiveEvaluationResult::stop / fixed).
@@ -602,8 +697,7 @@ LiveEvaluationResult evaluate_live_stopping(const TouchTable& table, const Class
       const Index n = std::min(settings.max_touches, t.available);
       for (Index k = 0; k < n; ++k) {
         const Index i = idx[static_cast<std::size_t>(k)];
-        const auto feature = table.touches.features.col(i);
-        s.add_touch(table.touches.positions.col(i), feature, refs.word(feature));
+        s.add_touch(live_touch_of(table.touches, i, refs.word(table.touches.features.col(i))));
         t.best.push_back(s.best());
         t.confidence.push_back(s.confidence());
         t.fused.push_back(s.fused());
