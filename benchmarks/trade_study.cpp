@@ -7,10 +7,13 @@
 // at 5, 10, 20 touches and the CPU time per recognition (one test touch set
 // against all objects). Writes trade_study.csv and trade_study.svg (accuracy
 // against time, Pareto front marked) and names the fast, balanced and
-// accurate recommendations.
+// accurate recommendations. The "fusion" rows fuse two classifiers (weights
+// chosen on the training folds); their time is both classifiers' distances.
 //
-//   build/release/benchmarks/trade_study [DATASET.csv] [--out DIR] [--repeats N]
-// Without a dataset, the built-in 20-object simulation (seed 1).
+//   build/release/benchmarks/trade_study [DATASET.csv] [--out DIR] [--repeats N] [--only GROUP,...]
+// Without a dataset, the built-in 20-object simulation (seed 1). --only runs
+// the named groups (e.g. fusion) and the baseline, whose time the others are
+// compared with in the same run.
 
 #include <algorithm>
 #include <chrono>
@@ -66,6 +69,10 @@ struct Setting {
   std::string descriptor = "sift";
   Index k = 50;
   std::function<std::unique_ptr<Classifier>()> make;
+  /// A second classifier and the fusion of the two (fitted weights, chosen on
+  /// the training folds); empty for the single-classifier rows.
+  std::function<std::unique_ptr<Classifier>()> also = nullptr;
+  std::string method = "";
 };
 
 template <typename C>
@@ -163,8 +170,14 @@ std::vector<Setting> grid() {
                      std::make_unique<PrunedVote<PatchClassifier<float, Planar>>>(std::move(c), PruningSettings{}));
                }});
   // No registration (beyond the paper): each touch's height and pad tilt.
-  s.push_back({"no registration", "height and tilt, 1 cm/rad", "sift", 50,
-               [] { return std::unique_ptr<Classifier>(std::make_unique<HeightClassifier>()); }});
+  auto height = [] { return std::unique_ptr<Classifier>(std::make_unique<HeightClassifier>()); };
+  s.push_back({"no registration", "height and tilt, 1 cm/rad", "sift", 50, height});
+  // Fusion (beyond the paper): heights and tilts with trimmed patch ICP, the
+  // weights chosen on the training folds (0 allowed); the time is both
+  // classifiers' distances.
+  for (const char* op : {"+", "*"})
+    s.push_back({"fusion", std::string("height") + op + "patch ICP 50%", "sift", 50, height,
+                 patch(8, 0.002, 50, 0.5f), std::string("height") + op + "patch"});
   return s;
 }
 
@@ -186,12 +199,20 @@ struct Row {
 int main(int argc, char** argv) {
   std::string dataset_path, out = "trade_study";
   int repeats = 5;
+  std::vector<std::string> only;  // groups to run besides the baseline (empty: all)
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i];
     else if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) repeats = std::atoi(argv[++i]);
-    else if (argv[i][0] != '-') dataset_path = argv[i];
+    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
+      std::string list = argv[++i];
+      for (std::size_t at = 0; at <= list.size();) {
+        const std::size_t comma = std::min(list.find(',', at), list.size());
+        only.push_back(list.substr(at, comma - at));
+        at = comma + 1;
+      }
+    } else if (argv[i][0] != '-') dataset_path = argv[i];
     else {
-      std::fprintf(stderr, "usage: trade_study [DATASET.csv] [--out DIR] [--repeats N]\n");
+      std::fprintf(stderr, "usage: trade_study [DATASET.csv] [--out DIR] [--repeats N] [--only GROUP,...]\n");
       return 2;
     }
   }
@@ -199,6 +220,18 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "trade_study: --repeats must be >= 1\n");
     return 2;
   }
+  std::vector<Setting> settings = grid();
+  for (const auto& g : only)
+    if (std::none_of(settings.begin(), settings.end(), [&](const Setting& s) { return s.group == g; })) {
+      std::fprintf(stderr, "trade_study: --only: no group '%s' in the grid\n", g.c_str());
+      return 2;
+    }
+  if (!only.empty())  // the baseline stays: times are compared within one run
+    settings.erase(std::remove_if(settings.begin(), settings.end(),
+                                  [&](const Setting& s) {
+                                    return s.group != "baseline" && std::find(only.begin(), only.end(), s.group) == only.end();
+                                  }),
+                   settings.end());
   Dataset ds;
   try {
     if (dataset_path.empty()) {
@@ -218,7 +251,6 @@ int main(int argc, char** argv) {
   std::printf("%-20s %-44s %6s %6s %6s %10s\n", "varied", "setting", "@5", "@10", "@20", "ms/recog.");
   std::map<std::string, TouchTable> tables;
   std::vector<Row> rows;
-  const auto settings = grid();
   for (const auto& s : settings) {
     if (!tables.count(s.descriptor)) tables[s.descriptor] = touches_for(ds, s.descriptor);
     CrossValidationSettings cv;
@@ -229,17 +261,21 @@ int main(int argc, char** argv) {
     KMeansQuantizer<float> q;
     q.settings.k = s.k;
     q.settings.seed = 1;
-    auto make = s.make;
-    const ClassifierFactory factory = [make] {
+    cv.zero_weights = true;
+    auto make = s.make, also = s.also;
+    const ClassifierFactory factory = [make, also] {
       std::vector<std::unique_ptr<Classifier>> v;
       v.push_back(make());
+      if (also) v.push_back(also());
       return v;
     };
-    const std::string name = make()->name();
+    const std::string name = s.method.empty() ? make()->name() : s.method;
     CrossValidation<> run(tables.at(s.descriptor), factory, q, {parse_method(name)}, cv);
     const auto r = run.run();
+    double seconds = 0;
+    for (const double c : r.classifier_seconds) seconds += c;
     Row row{&s, {r.methods[0].rate(0), r.methods[0].rate(1), r.methods[0].rate(2)},
-            1e3 * r.classifier_seconds[0] / static_cast<double>(r.tests)};
+            1e3 * seconds / static_cast<double>(r.tests)};
     rows.push_back(row);
     std::printf("%-20s %-44s %5.1f%% %5.1f%% %5.1f%% %10.3f\n", s.group.c_str(), s.name.c_str(), 100 * row.rate[0],
                 100 * row.rate[1], 100 * row.rate[2], row.ms);
