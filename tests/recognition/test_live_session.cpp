@@ -52,18 +52,25 @@ std::vector<Index> of_object(const TouchTable& t, const std::vector<Index>& idx,
 
 }  // namespace
 
-TEST_CASE("live session: each update equals a from-scratch recognition of the same touches") {
-  const TouchTable t = synthetic_table(1);
+namespace {
+
+/// Replays exploration 13 of every object of `t` into live sessions on
+/// references from the other explorations and checks every update against
+/// an independent recogniser, built by hand from the same classifiers, on
+/// the same touches from scratch. `oriented`: the touches go in with their
+/// pad normals and contact points (live_touch_of), else through the
+/// position / descriptor / word overload. Returns the references.
+std::unique_ptr<LiveReferences<>> check_live_equals_scratch(const TouchTable& t, const std::string& method,
+                                                          const ClassifierFactory& factory, bool oriented) {
   std::vector<Index> held, train;
   split(t, 13, held, train);
-  const Fusion fusion = parse_method("0.5*iclap+0.3*icp+0.2*bow").fusion;
-  const LiveReferences<> refs(t, train, test::paper_classifiers, codebook(), fusion);
-  REQUIRE(refs.objects() == t.objects);
-  CHECK(refs.vocabulary() == 4);
-  CHECK(refs.feature_length() == 4);
-  CHECK(refs.touches_per_object() == std::vector<Index>{60, 60, 60});
+  const Fusion fusion = parse_method(method).fusion;
+  auto refs = std::make_unique<LiveReferences<>>(t, train, factory, codebook(), fusion);
+  REQUIRE(refs->objects() == t.objects);
+  CHECK(refs->vocabulary() == 4);
+  CHECK(refs->feature_length() == 4);
+  CHECK(refs->touches_per_object() == std::vector<Index>{60, 60, 60});
 
-  // An independent recogniser on the same references, built by hand.
   KMeansQuantizer<float> q = codebook();
   Eigen::MatrixXf train_features(4, static_cast<Index>(train.size()));
   for (std::size_t j = 0; j < train.size(); ++j) train_features.col(static_cast<Index>(j)) = t.touches.features.col(train[j]);
@@ -72,21 +79,22 @@ TEST_CASE("live session: each update equals a from-scratch recognition of the sa
   all.words = assign_words(q, t.touches.features);
   std::vector<TouchSet> objects;
   for (Index o = 0; o < 3; ++o) objects.push_back(select_touches(all, of_object(t, train, o)));
-  Recognizer scratch(test::paper_classifiers());
+  Recognizer scratch(factory());
   scratch.fit(objects, q.size());
 
   for (Index o = 0; o < 3; ++o) {
     CAPTURE(o);
     const auto test = of_object(t, held, o);
-    LiveSession s = refs.session(LiveStopRule{1.0, 1, 0});
+    LiveSession s = refs->session(LiveStopRule{1.0, 1, 0});
     for (std::size_t n = 1; n <= test.size(); ++n) {
       const Index i = test[n - 1];
-      CHECK(refs.word(t.touches.features.col(i)) == all.words(i));  // same codebook
-      const LiveStop stop = s.add_touch(t.touches.positions.col(i), t.touches.features.col(i), all.words(i));
+      CHECK(refs->word(t.touches.features.col(i)) == all.words(i));  // same codebook
+      const LiveStop stop = oriented ? s.add_touch(live_touch_of(t.touches, i, all.words(i)))
+                                     : s.add_touch(t.touches.positions.col(i), t.touches.features.col(i), all.words(i));
       REQUIRE(s.touches() == static_cast<Index>(n));
       const std::vector<Index> first(test.begin(), test.begin() + static_cast<std::ptrdiff_t>(n));
       const DistanceTable d = scratch.distances(select_touches(all, first));
-      for (const char* c : {"bow", "icp", "iclap"}) {
+      for (const auto& c : fusion.classifiers()) {
         CAPTURE(c);
         CHECK(s.distances().get(c) == d.get(c));  // bit-identical: the same computation
       }
@@ -100,8 +108,16 @@ TEST_CASE("live session: each update equals a from-scratch recognition of the sa
       CHECK(s.history().back().best == s.best());
       CHECK(stop == (s.confidence() >= 1.0 ? LiveStop::kConfident : LiveStop::kContinue));
     }
+    CHECK(s.touch_set().normals.cols() == (oriented ? static_cast<Index>(test.size()) : 0));
     CHECK(s.best() == o);  // all 20 touches recognise the object
   }
+  return refs;
+}
+
+}  // namespace
+
+TEST_CASE("live session: each update equals a from-scratch recognition of the same touches") {
+  check_live_equals_scratch(synthetic_table(1), "0.5*iclap+0.3*icp+0.2*bow", test::paper_classifiers, false);
 }
 
 TEST_CASE("live session: the stop rule") {
@@ -196,38 +212,20 @@ std::vector<std::unique_ptr<Classifier>> oriented_classifiers() {
 
 TEST_CASE("live session: touches with the pad orientation feed height and patch, as from scratch") {
   const TouchTable t = oriented_table(4);
+  const auto refs = check_live_equals_scratch(t, "0.4*height+0.4*patch+0.2*bow", oriented_classifiers, true);
   std::vector<Index> held, train;
   split(t, 13, held, train);
-  const Fusion fusion = parse_method("0.4*height+0.4*patch+0.2*bow").fusion;
-  const LiveReferences<> refs(t, train, oriented_classifiers, codebook(), fusion);
-  TouchSet all = t.touches;
-  all.words = assign_words(refs.quantizer(), t.touches.features);
-  for (Index o = 0; o < 3; ++o) {
-    CAPTURE(o);
-    const auto test = of_object(t, held, o);
-    LiveSession s = refs.session(LiveStopRule{1.0, 1, 0});
-    for (std::size_t n = 1; n <= test.size(); ++n) {
-      const Index i = test[n - 1];
-      const LiveTouch touch = live_touch_of(t.touches, i, all.words(i));
-      REQUIRE(touch.normal);
-      CHECK(*touch.normal == Eigen::Vector3d(t.touches.normals.col(i)));
-      CHECK(touch.contact_points == t.touches.contact_points.middleCols(3 * i, 3));
-      s.add_touch(touch);
-      const std::vector<Index> first(test.begin(), test.begin() + static_cast<std::ptrdiff_t>(n));
-      const DistanceTable d = refs.recognizer().distances(select_touches(all, first));
-      for (const char* c : {"bow", "height", "patch"}) {
-        CAPTURE(c);
-        CHECK(s.distances().get(c) == d.get(c));
-      }
-      CHECK(s.fused() == fusion.evaluate(d));
-    }
-    CHECK(s.touch_set().normals.cols() == static_cast<Index>(test.size()));
-    CHECK(s.touch_set().contact_points.cols() == 3 * static_cast<Index>(test.size()));
-    CHECK(s.best() == o);
-  }
+  const Index i = held.front();
+  const LiveTouch touch = live_touch_of(t.touches, i, 1);
+  REQUIRE(touch.normal);
+  CHECK(*touch.normal == Eigen::Vector3d(t.touches.normals.col(i)));
+  CHECK(touch.contact_points == t.touches.contact_points.middleCols(3 * i, 3));
+  CHECK(touch.position == Eigen::Vector3d(t.touches.positions.col(i)));
+  CHECK(touch.feature == t.touches.features.col(i));
+  CHECK(touch.word == 1);
 
   // Every touch of a session carries the pad orientation, or none does.
-  LiveSession s = refs.session();
+  LiveSession s = refs->session();
   const LiveTouch full = live_touch_of(t.touches, held.front(), 0);
   LiveTouch bare = live_touch_of(t.touches, held.front(), 0);
   bare.normal.reset();
