@@ -31,7 +31,11 @@ std::vector<std::pair<std::string, std::vector<std::uint8_t>>> corpus(const std:
 TEST_CASE("Fuzz entry: stream parser on the seed corpus") {
   const auto files = corpus("stream_parser");
   CHECK(files.size() >= 8);
-  for (const auto& [name, bytes] : files) {
+  for (const auto& file : files) {
+    // Named members, not a structured binding: CAPTURE's lambda may not
+    // capture a binding in C++17 (clang++ rejects it).
+    const std::string& name = file.first;
+    const auto& bytes = file.second;
     CAPTURE(name);
     CHECK_NOTHROW(iclap::fuzz::fuzz_stream_parser(bytes.data(), bytes.size()));
     // Every prefix too: truncation anywhere keeps the invariants.
@@ -42,7 +46,11 @@ TEST_CASE("Fuzz entry: stream parser on the seed corpus") {
 TEST_CASE("Fuzz entry: dataset CSV reader on the seed corpus") {
   const auto files = corpus("dataset_csv");
   CHECK(files.size() >= 8);
-  for (const auto& [name, bytes] : files) {
+  for (const auto& file : files) {
+    // Named members, not a structured binding: CAPTURE's lambda may not
+    // capture a binding in C++17 (clang++ rejects it).
+    const std::string& name = file.first;
+    const auto& bytes = file.second;
     CAPTURE(name);
     CHECK_NOTHROW(iclap::fuzz::fuzz_dataset_csv(bytes.data(), bytes.size()));
     for (std::size_t n = 0; n < bytes.size(); n += 5) CHECK_NOTHROW(iclap::fuzz::fuzz_dataset_csv(bytes.data(), n));

@@ -124,7 +124,10 @@ using UsageCases = std::vector<std::pair<std::vector<std::string>, std::string>>
 
 /// Each case must fail as a usage error: exit status 2, the needle on stderr.
 inline void check_usage_errors(const UsageCases& cases, const ScratchDir& scratch) {
-  for (const auto& [args, needle] : cases) {
+  for (const auto& usage_case : cases) {
+    // Not a structured binding: CAPTURE's lambda may not capture one in C++17.
+    const std::vector<std::string>& args = usage_case.first;
+    const std::string& needle = usage_case.second;
     CAPTURE(needle);
     const auto r = run_iclap(args, scratch);
     INFO(r.err);
