@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <cstdint>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -26,35 +27,29 @@ std::vector<std::pair<std::string, std::vector<std::uint8_t>>> corpus(const std:
   }
   return files;
 }
+
+/// Runs `entry` on every seed file of `kind` (at least 8 of them) and on
+/// every `stride`-th prefix of each: truncation anywhere keeps the invariants.
+void check_corpus(const std::string& kind, void (*entry)(const std::uint8_t*, std::size_t), std::size_t stride) {
+  const auto files = corpus(kind);
+  CHECK(files.size() >= 8);
+  for (const auto& file : files) {
+    // Not a structured binding: C++17 lets no lambda (CAPTURE's) capture one.
+    const std::string& name = file.first;
+    const std::vector<std::uint8_t>& bytes = file.second;
+    CAPTURE(name);
+    CHECK_NOTHROW(entry(bytes.data(), bytes.size()));
+    for (std::size_t n = 0; n < bytes.size(); n += stride) CHECK_NOTHROW(entry(bytes.data(), n));
+  }
+}
 }  // namespace
 
 TEST_CASE("Fuzz entry: stream parser on the seed corpus") {
-  const auto files = corpus("stream_parser");
-  CHECK(files.size() >= 8);
-  for (const auto& file : files) {
-    // Named members, not a structured binding: CAPTURE's lambda may not
-    // capture a binding in C++17 (clang++ rejects it).
-    const std::string& name = file.first;
-    const auto& bytes = file.second;
-    CAPTURE(name);
-    CHECK_NOTHROW(iclap::fuzz::fuzz_stream_parser(bytes.data(), bytes.size()));
-    // Every prefix too: truncation anywhere keeps the invariants.
-    for (std::size_t n = 0; n < bytes.size(); n += 7) CHECK_NOTHROW(iclap::fuzz::fuzz_stream_parser(bytes.data(), n));
-  }
+  check_corpus("stream_parser", iclap::fuzz::fuzz_stream_parser, 7);
 }
 
 TEST_CASE("Fuzz entry: dataset CSV reader on the seed corpus") {
-  const auto files = corpus("dataset_csv");
-  CHECK(files.size() >= 8);
-  for (const auto& file : files) {
-    // Named members, not a structured binding: CAPTURE's lambda may not
-    // capture a binding in C++17 (clang++ rejects it).
-    const std::string& name = file.first;
-    const auto& bytes = file.second;
-    CAPTURE(name);
-    CHECK_NOTHROW(iclap::fuzz::fuzz_dataset_csv(bytes.data(), bytes.size()));
-    for (std::size_t n = 0; n < bytes.size(); n += 5) CHECK_NOTHROW(iclap::fuzz::fuzz_dataset_csv(bytes.data(), n));
-  }
+  check_corpus("dataset_csv", iclap::fuzz::fuzz_dataset_csv, 5);
 }
 
 TEST_CASE("Fuzz entry: the invariant checks can fail") {
