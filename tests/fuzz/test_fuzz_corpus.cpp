@@ -5,9 +5,9 @@
 
 #include <doctest/doctest.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <cstdint>
 #include <iterator>
 #include <string>
 #include <vector>
