@@ -403,3 +403,129 @@ TEST_CASE("a fixed point of the matching ends the search, not the iteration coun
   CHECK(tree.error == converged.error);
   CHECK(tree.T_model_test.R == converged.T_model_test.R);
 }
+
+namespace {
+/// The entries of `pool_matches` of the pool columns `subset`.
+template <typename Scalar>
+std::vector<Neighbor<Scalar>> gather(const std::vector<Neighbor<Scalar>>& pool_matches, const std::vector<Index>& subset) {
+  std::vector<Neighbor<Scalar>> out;
+  for (Index i : subset) out.push_back(pool_matches[static_cast<std::size_t>(i)]);
+  return out;
+}
+
+template <typename Icp, typename Ref, typename Transform>
+void check_pool_subsets(const Icp& icp, const Ref& ref, const Eigen::MatrixXf& pool, const Transform* initial) {
+  using Ws = typename Icp::Workspace;
+  Ws ws;
+  std::vector<Neighbor<float>> matches;
+  icp.first_matches(ref, pool, initial, ws, matches);
+  REQUIRE(matches.size() == static_cast<std::size_t>(pool.cols()));
+  Rng rng(91);
+  for (Index n : {1, 2, 5, 13, 40}) {
+    std::vector<Index> subset;
+    for (Index i = 0; i < pool.cols(); ++i) subset.push_back(i);
+    for (Index i = 0; i < n; ++i) std::swap(subset[static_cast<std::size_t>(i)],
+                                            subset[static_cast<std::size_t>(i + static_cast<Index>(rng.below(static_cast<std::uint64_t>(pool.cols() - i))))]);
+    subset.resize(static_cast<std::size_t>(n));
+    Eigen::MatrixXf test(pool.rows(), n);
+    for (Index k = 0; k < n; ++k) test.col(k) = pool.col(subset[static_cast<std::size_t>(k)]);
+    CAPTURE(n);
+    Ws a, b;
+    const auto plain = icp.align(ref, test, initial, a);
+    const auto given = icp.align(ref, test, initial, b, gather(matches, subset));
+    CHECK(given.iterations == plain.iterations);
+    CHECK(given.stop_reason == plain.stop_reason);
+    CHECK(given.pairs == plain.pairs);
+    CHECK(given.error == plain.error);
+    CHECK(given.T_model_test.R == plain.T_model_test.R);
+    CHECK(given.T_model_test.t == plain.T_model_test.t);
+  }
+}
+}  // namespace
+
+TEST_CASE("first matches computed once for a pool leave its subsets' registrations unchanged") {
+  // Cross validation registers many subsets of one held-out exploration
+  // against the same reference: each point's first match does not depend on
+  // the other points, so it is searched once for the pool.
+  const Eigen::MatrixXf model = random_points(4, 300, 71).cast<float>();
+  Eigen::VectorXd t;
+  const Eigen::MatrixXd R = random_motion<Planar>(4, 0.2, 0.1, 72, t);
+  const Eigen::MatrixXd near = random_points(4, 40, 73) * 0.8;
+  const Eigen::MatrixXf pool = (R.transpose() * (near.colwise() - t)).cast<float>();
+  const ReferenceCloud<float, 4> ref(model, Eigen::Vector4f(1, 1, 1, 0.3f));
+  Icp<float, 4, Planar> planar;
+  check_pool_subsets(planar, ref, pool, static_cast<const RigidTransform<float, 4>*>(nullptr));
+  RigidTransform<float, 4> T0 = RigidTransform<float, 4>::identity(4);
+  T0.R.topLeftCorner<2, 2>() << 0.8f, -0.6f, 0.6f, 0.8f;
+  T0.t << 0.05f, -0.02f, 0, 0;
+  check_pool_subsets(planar, ref, pool, &T0);
+  Icp<float, 4, FullRigid> trimmed;  // the rejector sees the given pairs like searched ones
+  trimmed.rejection.trim_fraction = 0.6f;
+  trimmed.rejection.max_distance = 1.5f;
+  check_pool_subsets(trimmed, ReferenceCloud<float, 4, BruteForceSearch<float, 4>>(model), pool,
+                     static_cast<const RigidTransform<float, 4>*>(nullptr));
+}
+
+TEST_CASE("given first matches skip exactly the first round of queries") {
+  const Eigen::MatrixXd model = random_points(3, 200, 61);
+  Eigen::VectorXd t;
+  const Eigen::MatrixXd R = random_motion<FullRigid>(3, 0.1, 0.05, 62, t);
+  const Eigen::MatrixXd test = R.transpose() * (model.leftCols(60).colwise() - t);
+  const ReferenceCloud<double, 3, CountingSearch> ref(model);
+  Icp<double, 3> icp;
+  IcpWorkspace<double, 3> ws;
+  std::vector<Neighbor<double>> first;
+  CountingSearch::queries = 0;
+  icp.first_matches(ref, test, nullptr, ws, first);
+  CHECK(CountingSearch::queries == 60);
+  CountingSearch::queries = 0;
+  const auto plain = icp.align(ref, test, nullptr, ws);
+  const long long plain_queries = CountingSearch::queries;
+  CountingSearch::queries = 0;
+  const auto given = icp.align(ref, test, nullptr, ws, first);
+  CHECK(CountingSearch::queries == plain_queries - 60);
+  CHECK(given.error == plain.error);
+  CHECK(given.iterations == plain.iterations);
+  // start() takes them as well.
+  CountingSearch::queries = 0;
+  auto run = icp.start(ref, test, nullptr, ws, first);
+  CHECK(CountingSearch::queries == 0);
+  run.run();
+  CHECK(run.result().error == plain.error);
+}
+
+TEST_CASE("first matches that do not belong to the registration are refused") {
+  const Eigen::MatrixXd model = random_points(3, 100, 81), other = random_points(3, 100, 82);
+  const Eigen::MatrixXd test = random_points(3, 20, 83);
+  const Ref3 ref(model), ref_other(other);
+  Icp<double, 3> icp;
+  IcpWorkspace<double, 3> ws;
+  std::vector<Neighbor<double>> mine, theirs, moved;
+  icp.first_matches(ref, test, nullptr, ws, mine);
+  icp.first_matches(ref_other, test, nullptr, ws, theirs);
+  RigidTransform<double, 3> shift = RigidTransform<double, 3>::identity(3);
+  shift.t << 0.3, 0, 0;
+  icp.first_matches(ref, test, &shift, ws, moved);
+  CHECK(argument_of([&] { icp.align(ref, test, nullptr, ws, theirs); }) == "first_matches");
+  CHECK(argument_of([&] { icp.align(ref, test, nullptr, ws, moved); }) == "first_matches");
+  CHECK(argument_of([&] { icp.align(ref, test, &shift, ws, mine); }) == "first_matches");
+  CHECK(argument_of([&] { icp.align(ref, test.leftCols(19), nullptr, ws, mine); }) == "first_matches");
+  std::vector<Neighbor<double>> bad = mine;
+  bad[7].index = 100;
+  try {
+    icp.align(ref, test, nullptr, ws, bad);
+    FAIL("an out-of-range match was accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "first_matches");
+    CHECK(std::string(e.what()).find("entry 7") != std::string::npos);
+  }
+  bad = mine;
+  bad[3].squared_distance *= 1.01;
+  CHECK(argument_of([&] { icp.align(ref, test, nullptr, ws, bad); }) == "first_matches");
+  // The same matches are accepted, and centroid alignment (which makes the
+  // first matching depend on the whole test) refuses them.
+  CHECK(icp.align(ref, test, nullptr, ws, mine).error == icp.align(ref, test, nullptr, ws).error);
+  icp.centroid_alignment = true;
+  CHECK(argument_of([&] { icp.first_matches(ref, test, nullptr, ws, mine); }) == "centroid_alignment");
+  CHECK(argument_of([&] { icp.align(ref, test, nullptr, ws, mine); }) == "centroid_alignment");
+}

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -18,6 +20,7 @@
 #include "iclap/registration/result.hpp"
 #include "iclap/registration/termination.hpp"
 #include "iclap/registration/transform.hpp"
+#include "iclap/search/neighbor.hpp"
 
 namespace iclap {
 
@@ -109,6 +112,51 @@ class Icp {
     return r.result();
   }
 
+  /// Same, with the first matching given: `first[i]` is test point i's
+  /// closest reference point under `initial`, as `first_matches` computes it
+  /// (for these points or for a pool they were taken from). The result is
+  /// the one of `align` without it; the first round of queries is skipped.
+  /// Throws InvalidArgument naming "first_matches" when the size differs
+  /// from the number of test points, when an index is out of range, when a
+  /// distance is not the one between the point and its match (matches of
+  /// another reference, point or initial transform), or when
+  /// `centroid_alignment` is on (the first matching then depends on the whole
+  /// test set).
+  template <typename Search, typename Derived>
+  Result align(const ReferenceCloud<Scalar, Dim, Search>& reference, const Eigen::MatrixBase<Derived>& test,
+               const Transform* initial, Workspace& workspace, const std::vector<Neighbor<Scalar>>& first) const {
+    auto r = start(reference, test, initial, workspace, first);
+    r.run();
+    return r.result();
+  }
+
+  /// Each test point's closest reference point under `initial` (null: the
+  /// identity), before any update: a registration's first matching. Without
+  /// `centroid_alignment` it depends on each point alone, not on the other
+  /// test points, so when many registrations take their test points from one
+  /// pool (cross validation draws subsets of a held-out exploration), the
+  /// pool's first matches can be computed once and each registration given
+  /// its points' entries (`align` / `start` with `first`), which skips its
+  /// first round of nearest-neighbour queries and changes nothing else.
+  /// Throws like `align`, and InvalidArgument naming "centroid_alignment"
+  /// when it is on.
+  template <typename Search, typename Derived>
+  void first_matches(const ReferenceCloud<Scalar, Dim, Search>& reference, const Eigen::MatrixBase<Derived>& test,
+                     const Transform* initial, Workspace& workspace, std::vector<Neighbor<Scalar>>& out) const {
+    reject_centroid_alignment();
+    const Index b = working_test_points(reference, test, initial, workspace);
+    const Index n = test.cols();
+    workspace.pairs.resize(static_cast<std::size_t>(n));
+    workspace.hints.assign(static_cast<std::size_t>(n), Index(-1));
+    // The first matching of a registration: the identity block motion.
+    const BlockMatrix R = AccBlockMatrix::Identity(b, b).template cast<Scalar>();
+    const BlockVector t = AccBlockVector::Zero(b).template cast<Scalar>();
+    Point<Scalar, Dim> y(reference.dim());
+    match(workspace.test_points, R, t, reference, y, workspace.pairs, workspace.hints, b, nullptr);
+    out.resize(static_cast<std::size_t>(n));
+    for (const auto& c : workspace.pairs) out[static_cast<std::size_t>(c.test)] = {c.model, c.squared_distance};
+  }
+
   /// Starts a registration without running it: the first matching is done
   /// and checked against the stopping rules; `step()` then advances one
   /// iteration at a time. This is what schedules across many registrations
@@ -119,7 +167,17 @@ class Icp {
   Registration<Search> start(const ReferenceCloud<Scalar, Dim, Search>& reference,
                              const Eigen::MatrixBase<Derived>& test, const Transform* initial,
                              Workspace& workspace) const {
-    return Registration<Search>(*this, reference, test, initial, workspace);
+    return Registration<Search>(*this, reference, test, initial, workspace, nullptr);
+  }
+
+  /// Same, with the first matching given (see `align` with `first`).
+  template <typename Search, typename Derived>
+  Registration<Search> start(const ReferenceCloud<Scalar, Dim, Search>& reference,
+                             const Eigen::MatrixBase<Derived>& test, const Transform* initial, Workspace& workspace,
+                             const std::vector<Neighbor<Scalar>>& first) const {
+    reject_centroid_alignment();
+    check_dimension(static_cast<Index>(first.size()), test.cols(), "first_matches");
+    return Registration<Search>(*this, reference, test, initial, workspace, first.data());
   }
 
  private:
@@ -142,12 +200,76 @@ class Icp {
     }
   }
 
+  void reject_centroid_alignment() const {
+    if (centroid_alignment)
+      throw InvalidArgument("centroid_alignment",
+                            "is on, so the first matching depends on the whole test set; first_matches need it off");
+  }
+
+  /// Working test points p' = W (T0(p) - c), computed as
+  /// W (R0 (p - c) + (R0 - I) c + t0), into `ws.test_points` (after the
+  /// input checks); returns the model's block size.
+  template <typename Search, typename Derived>
+  static Index working_test_points(const ReferenceCloud<Scalar, Dim, Search>& reference,
+                                   const Eigen::MatrixBase<Derived>& test, const Transform* initial, Workspace& ws) {
+    static_assert(std::is_floating_point_v<typename Derived::Scalar>, "iclap::Icp: test points must be floating point");
+    if (reference.size() == 0) throw EmptyInput("reference", "is empty (default-constructed)");
+    check_not_empty(test, "test");
+    const Index d = reference.dim();
+    check_dimension(test.rows(), d, "test");
+    check_finite(test, "test");
+    Model::check_dimension(d);
+    if (initial) initial->validate(d, "initial");
+    const Index n = test.cols();
+    const AccPoint c = reference.centroid_accurate();
+    const AccPoint w = reference.weights().template cast<Acc>();
+    ws.test_points.resize(d, n);
+    const bool rotate0 = initial && !initial->R.isIdentity(Scalar(0));
+    AccMatrix R0;
+    AccPoint o = AccPoint::Zero(d);
+    if (initial) {
+      R0 = initial->R.template cast<Acc>();
+      o = initial->t.template cast<Acc>();
+      if (rotate0) o += R0 * c - c;
+    }
+    AccPoint tmp(d);
+    for (Index j = 0; j < n; ++j) {
+      tmp = test.col(j).template cast<Acc>() - c;
+      if (rotate0) tmp = (R0 * tmp).eval();
+      tmp += o;
+      ws.test_points.col(j) = w.cwiseProduct(tmp).template cast<Scalar>();
+    }
+    return Model::block_size(d);
+  }
+
   /// Matches every working test point under (R, t) and applies the rejector.
-  /// Returns E over the kept pairs, which are moved to the front.
+  /// Returns E over the kept pairs, which are moved to the front. `given`:
+  /// see `match`.
   template <typename Search>
-  Acc correspond(const Cloud<Scalar, Dim>& P, const BlockMatrix& R, const BlockVector& t, const Search& search,
-                 Point<Scalar, Dim>& y, std::vector<Correspondence<Scalar>>& pairs, std::vector<Index>& hints,
-                 Index b, Index& kept) const {
+  Acc correspond(const Cloud<Scalar, Dim>& P, const BlockMatrix& R, const BlockVector& t,
+                 const ReferenceCloud<Scalar, Dim, Search>& reference, Point<Scalar, Dim>& y,
+                 std::vector<Correspondence<Scalar>>& pairs, std::vector<Index>& hints, Index b, Index& kept,
+                 const Neighbor<Scalar>* given) const {
+    const Index n = P.cols();
+    const Acc all = match(P, R, t, reference, y, pairs, hints, b, given);
+    kept = rejection.select(pairs.data(), n);
+    if (kept == n) return all;
+    Acc e = 0;
+    for (Index k = 0; k < kept; ++k) e += static_cast<Acc>(pairs[static_cast<std::size_t>(k)].squared_distance);
+    return e;
+  }
+
+  /// Matches every working test point under (R, t), in test order, and
+  /// returns E over every pair. With `given` (one match per test point, see
+  /// `first_matches`) the matches are taken from it instead of searched,
+  /// after checking that each names a reference point at the distance the
+  /// search would have reported.
+  template <typename Search>
+  Acc match(const Cloud<Scalar, Dim>& P, const BlockMatrix& R, const BlockVector& t,
+            const ReferenceCloud<Scalar, Dim, Search>& reference, Point<Scalar, Dim>& y,
+            std::vector<Correspondence<Scalar>>& pairs, std::vector<Index>& hints, Index b,
+            const Neighbor<Scalar>* given) const {
+    const auto& search = reference.search();
     const Index n = P.cols(), d = P.rows();
     Acc all = 0;  // E over every pair, summed in test order
     for (Index i = 0; i < n; ++i) {
@@ -162,7 +284,11 @@ class Icp {
         if (d > b) y.tail(d - b) = P.col(i).tail(d - b);
       }
       Neighbor<Scalar> nb;
-      if constexpr (detail::has_hinted_nearest<Search, Scalar>::value) {
+      if (given) {
+        nb = given[i];
+        check_given(nb, y, reference.working_points(), i);
+        hints[static_cast<std::size_t>(i)] = nb.index;
+      } else if constexpr (detail::has_hinted_nearest<Search, Scalar>::value) {
         nb = search.nearest(y.data(), hints[static_cast<std::size_t>(i)]);  // same answer, found sooner
         hints[static_cast<std::size_t>(i)] = nb.index;
       } else {
@@ -172,11 +298,26 @@ class Icp {
       pairs[static_cast<std::size_t>(i)] = {i, nb.index, nb.squared_distance};
       all += static_cast<Acc>(nb.squared_distance);
     }
-    kept = rejection.select(pairs.data(), n);
-    if (kept == n) return all;
-    Acc e = 0;
-    for (Index k = 0; k < kept; ++k) e += static_cast<Acc>(pairs[static_cast<std::size_t>(k)].squared_distance);
-    return e;
+    return all;
+  }
+
+  /// A given match must name a reference point and carry the squared
+  /// distance between it and the matched point (up to the rounding of a
+  /// search policy that sums in another order): this catches matches of
+  /// another reference, pool or initial transform.
+  static void check_given(const Neighbor<Scalar>& nb, const Point<Scalar, Dim>& y, const Cloud<Scalar, Dim>& M,
+                          Index i) {
+    const auto where = [&] { return "entry " + std::to_string(i) + " "; };
+    if (nb.index < 0 || nb.index >= M.cols())
+      throw InvalidArgument("first_matches", where() + "names reference point " + std::to_string(nb.index) +
+                                                 " of " + std::to_string(M.cols()));
+    const Scalar actual = detail::squared_distance<Dim>(y.data(), M.col(nb.index).data(), M.rows());
+    const Scalar tolerance = Scalar(64) * std::numeric_limits<Scalar>::epsilon() * std::max(actual, nb.squared_distance);
+    if (!(std::abs(actual - nb.squared_distance) <= tolerance))
+      throw InvalidArgument("first_matches", where() + "gives squared distance " + std::to_string(nb.squared_distance) +
+                                                 " to reference point " + std::to_string(nb.index) + ", which is at " +
+                                                 std::to_string(actual) +
+                                                 " (matches of another reference, test point or initial transform)");
   }
 
   /// Centroids and cross-covariance of the kept pairs (block coordinates) in
@@ -215,43 +356,18 @@ template <typename Scalar, int Dim, typename Model, typename Rejector, typename 
 template <typename Search>
 class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
  public:
+  /// `first`: the given first matching (see Icp::align with `first`), one
+  /// entry per test point, or null.
   template <typename Derived>
   Registration(const Icp& icp, const ReferenceCloud<Scalar, Dim, Search>& reference,
-               const Eigen::MatrixBase<Derived>& test, const Transform* initial, Workspace& ws)
+               const Eigen::MatrixBase<Derived>& test, const Transform* initial, Workspace& ws,
+               const Neighbor<Scalar>* first)
       : icp_(&icp), reference_(&reference), ws_(&ws) {
-    static_assert(std::is_floating_point_v<typename Derived::Scalar>, "iclap::Icp: test points must be floating point");
     icp.termination.validate();
     icp.rejection.validate();
-    if (reference.size() == 0) throw EmptyInput("reference", "is empty (default-constructed)");
-    check_not_empty(test, "test");
-    const Index d = reference.dim();
-    check_dimension(test.rows(), d, "test");
-    check_finite(test, "test");
-    Model::check_dimension(d);
-    if (initial) initial->validate(d, "initial");
-    b_ = Model::block_size(d);
-    const Index n = test.cols();
+    b_ = working_test_points(reference, test, initial, ws);
+    const Index d = reference.dim(), n = test.cols();
     if (initial) initial_ = *initial;
-
-    // Working test points p' = W (T0(p) - c), computed as W (R0 (p - c) + (R0 - I) c + t0).
-    const AccPoint c = reference.centroid_accurate();
-    const AccPoint w = reference.weights().template cast<Acc>();
-    ws.test_points.resize(d, n);
-    const bool rotate0 = initial && !initial->R.isIdentity(Scalar(0));
-    AccMatrix R0;
-    AccPoint o = AccPoint::Zero(d);
-    if (initial) {
-      R0 = initial->R.template cast<Acc>();
-      o = initial->t.template cast<Acc>();
-      if (rotate0) o += R0 * c - c;
-    }
-    AccPoint tmp(d);
-    for (Index j = 0; j < n; ++j) {
-      tmp = test.col(j).template cast<Acc>() - c;
-      if (rotate0) tmp = (R0 * tmp).eval();
-      tmp += o;
-      ws.test_points.col(j) = w.cwiseProduct(tmp).template cast<Scalar>();
-    }
     ws.pairs.resize(static_cast<std::size_t>(n));
     ws.hints.assign(static_cast<std::size_t>(n), Index(-1));
 
@@ -265,7 +381,7 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
     R_ = R_acc_.template cast<Scalar>();
     t_ = t_acc_.template cast<Scalar>();
     y_.resize(d);
-    match_and_check();
+    match_and_check(first);
   }
 
   /// True once a stopping rule has fired (or no pair survived rejection).
@@ -376,9 +492,8 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
     }
   }
 
-  void match_and_check() {
-    error_ = icp_->correspond(ws_->test_points, R_, t_, reference_->search(), y_, ws_->pairs, ws_->hints, b_,
-                              kept_);
+  void match_and_check(const Neighbor<Scalar>* given = nullptr) {
+    error_ = icp_->correspond(ws_->test_points, R_, t_, *reference_, y_, ws_->pairs, ws_->hints, b_, kept_, given);
     if (kept_ == 0) {
       done_ = true;
       reason_ = StopReason::NoCorrespondences;
