@@ -139,4 +139,18 @@ TEST_CASE("patch classifiers recognise tests drawn from their own training data"
     CHECK(decide(d) == o);
     CHECK(patch.decide(test, {PruningSettings::Schedule::Bound}).object == o);
   }
+  // First matches prepared for a pool (8 points per touch here) leave every
+  // subset's distances as they are, bit for bit.
+  const TouchSet& pool = objects[2];
+  for (const Classifier* c : {static_cast<const Classifier*>(&patch), static_cast<const Classifier*>(&labeled)}) {
+    const auto prepared = c->prepare_pool(pool);
+    REQUIRE(prepared != nullptr);
+    for (const auto& subset : {std::vector<Index>{4}, std::vector<Index>{3, 0, 7, 7, 12},
+                               std::vector<Index>{39, 1, 22, 8, 30, 16, 5}}) {
+      Eigen::VectorXd a(3), b(3);
+      c->pool_distances(pool, prepared.get(), subset, a);
+      c->distances(select_touches(pool, subset), b);
+      CHECK(a == b);
+    }
+  }
 }

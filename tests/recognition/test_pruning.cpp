@@ -280,3 +280,122 @@ TEST_CASE("the reference search settings change the speed, never the distances")
   bad.search_settings.leaf_max_size = 0;
   CHECK_THROWS_AS(bad.fit(sc.objects, 4), InvalidArgument);
 }
+
+namespace {
+/// The touches of every test of `sc`, one after another.
+TouchSet pool_of(const Scene& sc) {
+  Index n = 0;
+  for (const auto& t : sc.tests) n += t.second.size();
+  TouchSet pool;
+  pool.positions.resize(3, n);
+  pool.words.resize(n);
+  Index k = 0;
+  for (const auto& t : sc.tests) {
+    pool.positions.middleCols(k, t.second.size()) = t.second.positions;
+    pool.words.segment(k, t.second.size()) = t.second.words;
+    k += t.second.size();
+  }
+  return pool;
+}
+
+/// PositionEmbedding without the per-touch promise (a user's embedding).
+struct UnpromisedEmbedding {
+  static constexpr int dimension = 3;
+  static constexpr const char* default_name = "unpromised";
+  Index dim(const TouchSet& /*touches*/) const noexcept { return 3; }
+  void validate() const {}
+  template <typename Scalar, int Dim>
+  void weights(Point<Scalar, Dim>& w, Index d) const {
+    w = Point<Scalar, Dim>::Ones(d);
+  }
+  template <typename Scalar, int Dim>
+  void embed(const TouchSet& s, Cloud<Scalar, Dim>& out) const {
+    out = s.positions.cast<Scalar>();
+  }
+};
+
+template <typename C>
+void check_pool(const C& c, const TouchSet& pool, Index objects) {
+  const auto prepared = c.prepare_pool(pool);
+  REQUIRE(prepared != nullptr);
+  Rng rng(17);
+  for (Index n : {1, 3, 12, 30}) {
+    std::vector<Index> subset;
+    for (Index k = 0; k < n; ++k)
+      subset.push_back(static_cast<Index>(rng.below(static_cast<std::uint64_t>(pool.size()))));
+    Eigen::VectorXd a(objects), b(objects), none(objects);
+    c.pool_distances(pool, prepared.get(), subset, a);
+    c.distances(select_touches(pool, subset), b);
+    c.pool_distances(pool, nullptr, subset, none);
+    CAPTURE(n);
+    CHECK(a == b);  // bit for bit
+    CHECK(none == b);
+  }
+}
+}  // namespace
+
+TEST_CASE("first matches prepared for a pool: every subset's distances unchanged, bit for bit") {
+  const Scene sc = make_scene(8, 6, 0.3);
+  const TouchSet pool = pool_of(sc);
+  IcpClassifier<float, Planar> icp;
+  IclapClassifier<float, Planar> iclap;
+  iclap.embedding.label_scale = 0.002;
+  IclapClassifier<double, SpatialRigid> trimmed;
+  trimmed.icp.rejection.trim_fraction = 0.7;
+  IcpClassifier<float, Planar> starts;  // only the zero start uses them
+  starts.yaw_starts_deg = {-30, 0, 30};
+  for (Classifier* c : std::initializer_list<Classifier*>{&icp, &iclap, &trimmed, &starts}) c->fit(sc.objects, 4);
+  check_pool(icp, pool, 8);
+  check_pool(iclap, pool, 8);
+  check_pool(trimmed, pool, 8);
+  check_pool(starts, pool, 8);
+
+  // Nothing to reuse: no zero start, centroid alignment, an embedding
+  // without the per-touch promise. pool_distances still gives the distances.
+  IcpClassifier<float, Planar> turned;
+  turned.yaw_starts_deg = {-30, 30};
+  IcpClassifier<float, Planar> centred;
+  centred.icp.centroid_alignment = true;
+  RegistrationClassifier<UnpromisedEmbedding, float> unpromised;
+  for (Classifier* c : std::initializer_list<Classifier*>{&turned, &centred, &unpromised}) {
+    c->fit(sc.objects, 4);
+    CHECK(c->prepare_pool(pool) == nullptr);
+    Eigen::VectorXd a(8), b(8);
+    c->pool_distances(pool, nullptr, {2, 5, 7}, a);
+    c->distances(select_touches(pool, std::vector<Index>{2, 5, 7}), b);
+    CHECK(a == b);
+  }
+}
+
+TEST_CASE("a prepared pool is refused by another classifier, pool or fit") {
+  const Scene sc = make_scene(4, 7);
+  const TouchSet pool = pool_of(sc);
+  IcpClassifier<float, Planar> icp, other;
+  CHECK_THROWS_WITH_AS(icp.prepare_pool(pool), doctest::Contains("before fit"), InvalidArgument);
+  icp.fit(sc.objects, 4);
+  other.fit(sc.objects, 4);
+  const auto prepared = icp.prepare_pool(pool);
+  Eigen::VectorXd out(4);
+  auto argument = [&](auto&& f) {
+    try {
+      f();
+    } catch (const InvalidArgument& e) {
+      return e.argument();
+    }
+    return std::string("(no exception)");
+  };
+  CHECK(argument([&] { other.pool_distances(pool, prepared.get(), {0, 1}, out); }) == "prepared");
+  const TouchSet smaller = select_touches(pool, std::vector<Index>{0, 1, 2});
+  CHECK(argument([&] { icp.pool_distances(smaller, prepared.get(), {0, 1}, out); }) == "prepared");
+  CHECK(argument([&] { icp.pool_distances(pool, prepared.get(), {0, -1}, out); }) == "subset");
+  CHECK(argument([&] { icp.pool_distances(pool, prepared.get(), {0, 1}, out.head(3)); }) == "out");
+  icp.pool_distances(pool, prepared.get(), {0, 1}, out);  // still valid
+  icp.fit(sc.objects, 4);                                 // a refit makes it stale
+  CHECK(argument([&] { icp.pool_distances(pool, prepared.get(), {0, 1}, out); }) == "prepared");
+  // A pool of the same size but other touches: the first matches do not fit
+  // its points, which the registration notices.
+  TouchSet moved = pool;
+  moved.positions.row(0).array() += 0.01;
+  const auto fresh = icp.prepare_pool(pool);
+  CHECK(argument([&] { icp.pool_distances(moved, fresh.get(), {0, 1}, out); }) == "first_matches");
+}

@@ -134,6 +134,51 @@ TEST_CASE("the recogniser fuses every classifier once per test") {
   CHECK(!only.has("bow"));
 }
 
+TEST_CASE("a prepared pool gives each subset the recogniser's distances of its own touches") {
+  const TouchTable t = synthetic_table(3);
+  KMeansQuantizer<float> q = codebook(4);
+  q.fit(t.touches.features);
+  const WordIds words = assign_words(q, t.touches.features);
+  Recognizer rec(all_classifiers());
+  rec.fit(per_object(t, words), q.size());
+  TouchSet pool = t.touches;
+  pool.words = words;
+  std::vector<double> seconds;
+  const auto prepared = rec.prepare_pool(pool, {}, &seconds, 2);
+  REQUIRE(prepared.size() == 4);
+  CHECK(prepared[0] == nullptr);  // bow: nothing to reuse
+  for (std::size_t i = 1; i < 4; ++i) CHECK(prepared[i] != nullptr);  // icp, iclap, iclapn
+  CHECK(seconds.size() == 4);
+  Rng rng(5);
+  for (Index n : {1, 4, 9, 25}) {
+    for (int draw = 0; draw < 3; ++draw) {
+      std::vector<Index> subset;
+      for (Index k = 0; k < n; ++k)
+      subset.push_back(static_cast<Index>(rng.below(static_cast<std::uint64_t>(pool.size()))));
+      const DistanceTable a = rec.pool_distances(pool, prepared, subset);
+      const DistanceTable b = rec.distances(select_touches(pool, subset));
+      for (const char* name : {"bow", "icp", "iclap", "iclapn"}) {
+        CAPTURE(name);
+        CAPTURE(n);
+        CHECK(a.get(name) == b.get(name));  // bit for bit
+      }
+    }
+  }
+  const auto icp_only = rec.prepare_pool(pool, {"icp"});
+  CHECK(icp_only[1] != nullptr);
+  CHECK(icp_only[2] == nullptr);
+  const std::vector<Index> pair = {0, 1};
+  CHECK(rec.pool_distances(pool, icp_only, pair).get("iclap") == rec.distances(select_touches(pool, pair)).get("iclap"));
+  CHECK_THROWS_AS(rec.pool_distances(pool, {prepared[0]}, {0}), DimensionMismatch);
+  try {
+    rec.pool_distances(pool, prepared, {0, pool.size()});
+    FAIL("a subset index outside the pool was accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "subset");
+    CHECK(std::string(e.what()).find("entry 1") != std::string::npos);
+  }
+}
+
 TEST_CASE("cross validation: rates, weights from training folds, identical for any thread count") {
   const TouchTable t = synthetic_table(4);
   CrossValidationSettings s;

@@ -407,7 +407,8 @@ TEST_CASE("a fixed point of the matching ends the search, not the iteration coun
 namespace {
 /// The entries of `pool_matches` of the pool columns `subset`.
 template <typename Scalar>
-std::vector<Neighbor<Scalar>> gather(const std::vector<Neighbor<Scalar>>& pool_matches, const std::vector<Index>& subset) {
+std::vector<Neighbor<Scalar>> gather(const std::vector<Neighbor<Scalar>>& pool_matches,
+                                     const std::vector<Index>& subset) {
   std::vector<Neighbor<Scalar>> out;
   for (Index i : subset) out.push_back(pool_matches[static_cast<std::size_t>(i)]);
   return out;
@@ -424,8 +425,10 @@ void check_pool_subsets(const Icp& icp, const Ref& ref, const Eigen::MatrixXf& p
   for (Index n : {1, 2, 5, 13, 40}) {
     std::vector<Index> subset;
     for (Index i = 0; i < pool.cols(); ++i) subset.push_back(i);
-    for (Index i = 0; i < n; ++i) std::swap(subset[static_cast<std::size_t>(i)],
-                                            subset[static_cast<std::size_t>(i + static_cast<Index>(rng.below(static_cast<std::uint64_t>(pool.cols() - i))))]);
+    for (Index i = 0; i < n; ++i) {  // partial Fisher-Yates
+      const auto j = i + static_cast<Index>(rng.below(static_cast<std::uint64_t>(pool.cols() - i)));
+      std::swap(subset[static_cast<std::size_t>(i)], subset[static_cast<std::size_t>(j)]);
+    }
     subset.resize(static_cast<std::size_t>(n));
     Eigen::MatrixXf test(pool.rows(), n);
     for (Index k = 0; k < n; ++k) test.col(k) = pool.col(subset[static_cast<std::size_t>(k)]);

@@ -1,15 +1,25 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "iclap/core/error.hpp"
 #include "iclap/core/types.hpp"
 #include "iclap/recognition/touch_set.hpp"
 
 namespace iclap {
+
+/// What a classifier computed once for a pool of touches that many tests are
+/// drawn from (`Classifier::prepare_pool`). Opaque; only the classifier that
+/// made it reads it.
+class PreparedPool {
+ public:
+  virtual ~PreparedPool() = default;
+};
 
 /// A recognition pipeline that measures how far a set of test touches is
 /// from every known object (smaller: more alike). Runtime-polymorphic so that
@@ -30,6 +40,36 @@ class Classifier {
   virtual void distances(const TouchSet& test, Eigen::Ref<Eigen::VectorXd> out) const = 0;
   /// Number of objects of the last fit (0 before).
   virtual Index objects() const = 0;
+
+  /// Work that depends on single touches of `pool` only, done once for all
+  /// the tests `pool_distances` draws from it (cross validation draws many
+  /// subsets of each held-out exploration). Null when the classifier has
+  /// nothing to reuse (the default). Valid until the next `fit`.
+  virtual std::shared_ptr<const PreparedPool> prepare_pool(const TouchSet& pool) const {
+    (void)pool;
+    return nullptr;
+  }
+
+  /// The distances of the test made of `pool`'s touches `subset`, in that
+  /// order: exactly those of `distances(select_touches(pool, subset), out)`,
+  /// sooner when `prepared` is `prepare_pool(pool)` of this classifier since
+  /// its last fit (null: nothing prepared). Throws InvalidArgument naming
+  /// "subset" for an index outside the pool, and whatever `distances` throws.
+  virtual void pool_distances(const TouchSet& pool, const PreparedPool* prepared, const std::vector<Index>& subset,
+                              Eigen::Ref<Eigen::VectorXd> out) const {
+    (void)prepared;
+    distances(select_touches(pool, checked_subset(pool, subset)), out);
+  }
+
+ protected:
+  /// `subset`, after checking that every index names a touch of `pool`.
+  static const std::vector<Index>& checked_subset(const TouchSet& pool, const std::vector<Index>& subset) {
+    for (std::size_t k = 0; k < subset.size(); ++k)
+      if (subset[k] < 0 || subset[k] >= pool.size())
+        throw InvalidArgument("subset", "entry " + std::to_string(k) + " is touch " + std::to_string(subset[k]) +
+                                            " of a pool of " + std::to_string(pool.size()));
+    return subset;
+  }
 };
 
 }  // namespace iclap

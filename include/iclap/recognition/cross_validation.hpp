@@ -400,19 +400,35 @@ class CrossValidation {
   }
 
   /// Normalised distances of every draw, in parallel; identical for any
-  /// thread count (each draw is computed independently).
+  /// thread count (each draw is computed independently). The draws are
+  /// subsets of one pool, the union of their touches, which the classifiers
+  /// prepare once (Classifier::prepare_pool: the registrations' first
+  /// matches); the distances are those of each draw's own touch set. The
+  /// preparation's time counts in `seconds`.
   std::vector<DistanceTable> compute(const Recognizer& rec, const TouchSet& all, const std::vector<Draw>& draws,
                                      const std::vector<std::string>& only, ProgressCounter& progress,
                                      std::vector<double>* seconds = nullptr) const {
+    std::vector<Index> members;  // sorted union of the draws' touches (rows of `all`)
+    for (const auto& d : draws) members.insert(members.end(), d.touches.begin(), d.touches.end());
+    std::sort(members.begin(), members.end());
+    members.erase(std::unique(members.begin(), members.end()), members.end());
+    const TouchSet pool = select_touches(all, members);
+    std::vector<double> prepare_seconds;
+    const auto prepared =
+        rec.prepare_pool(pool, only, seconds ? &prepare_seconds : nullptr, static_cast<unsigned>(settings_.threads));
     std::vector<DistanceTable> tables(draws.size());
     std::vector<std::vector<double>> worker_seconds(worker_count(draws.size()));
     parallel_for(draws.size(), [&](std::size_t d, unsigned worker) {
-      tables[d] = rec.distances(select_touches(all, draws[d].touches), only,
-                                seconds ? &worker_seconds[worker] : nullptr);
+      std::vector<Index> subset;
+      subset.reserve(draws[d].touches.size());
+      for (Index t : draws[d].touches)
+        subset.push_back(static_cast<Index>(std::lower_bound(members.begin(), members.end(), t) - members.begin()));
+      tables[d] = rec.pool_distances(pool, prepared, subset, only, seconds ? &worker_seconds[worker] : nullptr);
       progress.tick();
     });
     if (seconds) {
       seconds->assign(rec.classifiers().size(), 0.0);
+      for (std::size_t c = 0; c < prepare_seconds.size(); ++c) (*seconds)[c] += prepare_seconds[c];
       for (const auto& mine : worker_seconds)
         for (std::size_t c = 0; c < mine.size(); ++c) (*seconds)[c] += mine[c];
     }

@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "iclap/core/check.hpp"
 #include "iclap/core/error.hpp"
+#include "iclap/core/parallel.hpp"
 #include "iclap/recognition/classifier.hpp"
 #include "iclap/recognition/fusion.hpp"
 #include "iclap/recognition/methods.hpp"
@@ -101,25 +103,70 @@ class Recognizer {
   /// entry per classifier, in order), each classifier's time is added to it.
   DistanceTable distances(const TouchSet& test, const std::vector<std::string>& only = {},
                           std::vector<double>* seconds = nullptr) const {
-    DistanceTable table;
-    Eigen::VectorXd d(objects());
+    return table_of(only, seconds,
+                    [&](const Classifier& c, std::size_t, Eigen::Ref<Eigen::VectorXd> d) { c.distances(test, d); });
+  }
+
+  /// Every classifier's `prepare_pool(pool)`, in classifier order (null for
+  /// those not named in `only`, if not empty), the classifiers spread over
+  /// `threads` threads (0: all cores). If `seconds` is given, each
+  /// classifier's time is added to it as in `distances`.
+  std::vector<std::shared_ptr<const PreparedPool>> prepare_pool(const TouchSet& pool,
+                                                                const std::vector<std::string>& only = {},
+                                                                std::vector<double>* seconds = nullptr,
+                                                                unsigned threads = 1) const {
+    std::vector<std::shared_ptr<const PreparedPool>> out(classifiers_.size());
     if (seconds) seconds->resize(classifiers_.size(), 0.0);
-    for (std::size_t i = 0; i < classifiers_.size(); ++i) {
-      const auto& c = classifiers_[i];
-      if (!only.empty() && std::find(only.begin(), only.end(), c->name()) == only.end()) continue;
+    detail::parallel_for(classifiers_.size(), threads, [&](std::size_t i, unsigned /*worker*/) {
+      if (!wanted(*classifiers_[i], only)) return;
       const auto start = std::chrono::steady_clock::now();
-      c->distances(test, d);
+      out[i] = classifiers_[i]->prepare_pool(pool);
       if (seconds) (*seconds)[i] += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      normalize(d, normalization_);
-      table.set(c->name(), d);
-    }
-    return table;
+    });
+    return out;
+  }
+
+  /// The normalised distances of `distances(select_touches(pool, subset),
+  /// only, seconds)`, each classifier given its entry of `prepared` (from
+  /// `prepare_pool(pool)` since the last fit; see
+  /// Classifier::pool_distances). Throws DimensionMismatch naming
+  /// "prepared" unless it has one entry per classifier.
+  DistanceTable pool_distances(const TouchSet& pool, const std::vector<std::shared_ptr<const PreparedPool>>& prepared,
+                               const std::vector<Index>& subset, const std::vector<std::string>& only = {},
+                               std::vector<double>* seconds = nullptr) const {
+    check_dimension(static_cast<Index>(prepared.size()), static_cast<Index>(classifiers_.size()), "prepared");
+    return table_of(only, seconds, [&](const Classifier& c, std::size_t i, Eigen::Ref<Eigen::VectorXd> d) {
+      c.pool_distances(pool, prepared[i].get(), subset, d);
+    });
   }
 
   Normalization normalization() const noexcept { return normalization_; }
   const std::vector<std::unique_ptr<Classifier>>& classifiers() const noexcept { return classifiers_; }
 
  private:
+  static bool wanted(const Classifier& c, const std::vector<std::string>& only) {
+    return only.empty() || std::find(only.begin(), only.end(), c.name()) != only.end();
+  }
+
+  /// The table of the wanted classifiers' distances, each computed by
+  /// `compute(classifier, its index, out)`, timed and normalised.
+  template <typename Compute>
+  DistanceTable table_of(const std::vector<std::string>& only, std::vector<double>* seconds, Compute&& compute) const {
+    DistanceTable table;
+    Eigen::VectorXd d(objects());
+    if (seconds) seconds->resize(classifiers_.size(), 0.0);
+    for (std::size_t i = 0; i < classifiers_.size(); ++i) {
+      const auto& c = *classifiers_[i];
+      if (!wanted(c, only)) continue;
+      const auto start = std::chrono::steady_clock::now();
+      compute(c, i, d);
+      if (seconds) (*seconds)[i] += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      normalize(d, normalization_);
+      table.set(c.name(), d);
+    }
+    return table;
+  }
+
   static bool has_product(const Fusion& f) {
     if (f.kind() == Fusion::Kind::Product) return true;
     for (const auto& c : f.children())

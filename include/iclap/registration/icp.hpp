@@ -232,12 +232,15 @@ class Icp {
       o = initial->t.template cast<Acc>();
       if (rotate0) o += R0 * c - c;
     }
-    AccPoint tmp(d);
+    AccPoint tmp(d), rotated(d);
     for (Index j = 0; j < n; ++j) {
       tmp = test.col(j).template cast<Acc>() - c;
-      if (rotate0) tmp = (R0 * tmp).eval();
-      tmp += o;
-      ws.test_points.col(j) = w.cwiseProduct(tmp).template cast<Scalar>();
+      if (rotate0) {
+        rotated.noalias() = R0 * tmp;
+        ws.test_points.col(j) = w.cwiseProduct(rotated + o).template cast<Scalar>();
+      } else {
+        ws.test_points.col(j) = w.cwiseProduct(tmp + o).template cast<Scalar>();
+      }
     }
     return Model::block_size(d);
   }
@@ -312,7 +315,8 @@ class Icp {
       throw InvalidArgument("first_matches", where() + "names reference point " + std::to_string(nb.index) +
                                                  " of " + std::to_string(M.cols()));
     const Scalar actual = detail::squared_distance<Dim>(y.data(), M.col(nb.index).data(), M.rows());
-    const Scalar tolerance = Scalar(64) * std::numeric_limits<Scalar>::epsilon() * std::max(actual, nb.squared_distance);
+    const Scalar tolerance =
+        Scalar(64) * std::numeric_limits<Scalar>::epsilon() * std::max(actual, nb.squared_distance);
     if (!(std::abs(actual - nb.squared_distance) <= tolerance))
       throw InvalidArgument("first_matches", where() + "gives squared distance " + std::to_string(nb.squared_distance) +
                                                  " to reference point " + std::to_string(nb.index) + ", which is at " +
