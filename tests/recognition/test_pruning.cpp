@@ -298,21 +298,15 @@ TouchSet pool_of(const Scene& sc) {
   return pool;
 }
 
-/// PositionEmbedding without the per-touch promise (a user's embedding).
-struct UnpromisedEmbedding {
-  static constexpr int dimension = 3;
-  static constexpr const char* default_name = "unpromised";
-  Index dim(const TouchSet& /*touches*/) const noexcept { return 3; }
-  void validate() const {}
-  template <typename Scalar, int Dim>
-  void weights(Point<Scalar, Dim>& w, Index d) const {
-    w = Point<Scalar, Dim>::Ones(d);
-  }
-  template <typename Scalar, int Dim>
-  void embed(const TouchSet& s, Cloud<Scalar, Dim>& out) const {
-    out = s.positions.cast<Scalar>();
-  }
+/// Positions, with the per-touch promise withdrawn.
+struct UnpromisedEmbedding : PositionEmbedding {
+  static constexpr bool per_touch = false;
 };
+/// A user's embedding that does not mention the promise makes none.
+struct Silent {};
+static_assert(!detail::embeds_per_touch<Silent>::value);
+static_assert(!detail::embeds_per_touch<UnpromisedEmbedding>::value);
+static_assert(detail::embeds_per_touch<PositionEmbedding>::value);
 
 template <typename C>
 void check_pool(const C& c, const TouchSet& pool, Index objects) {

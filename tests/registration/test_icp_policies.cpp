@@ -366,16 +366,20 @@ struct CountingSearch : BruteForceSearch<double, 3> {
     return BruteForceSearch<double, 3>::nearest(q);
   }
 };
+
+/// 60 of `model`'s points, moved a little (the query-counting cases).
+Eigen::MatrixXd counted_test(const Eigen::MatrixXd& model) {
+  Eigen::VectorXd t;
+  const Eigen::MatrixXd R = random_motion<FullRigid>(3, 0.1, 0.05, 62, t);
+  return R.transpose() * (model.leftCols(60).colwise() - t);
+}
 }  // namespace
 
 TEST_CASE("a fixed point of the matching ends the search, not the iteration count") {
   // Once the pairs matched under a transform are those it was estimated
   // from, the next update reproduces it; that iteration is counted and the
   // rules checked, but nobody searches again.
-  const Eigen::MatrixXd model = random_points(3, 200, 61);
-  Eigen::VectorXd t;
-  const Eigen::MatrixXd R = random_motion<FullRigid>(3, 0.1, 0.05, 62, t);
-  const Eigen::MatrixXd test = R.transpose() * (model.leftCols(60).colwise() - t);
+  const Eigen::MatrixXd model = random_points(3, 200, 61), test = counted_test(model);
   const ReferenceCloud<double, 3, CountingSearch> ref(model);
   Icp<double, 3> icp;
   CountingSearch::queries = 0;
@@ -470,10 +474,7 @@ TEST_CASE("first matches computed once for a pool leave its subsets' registratio
 }
 
 TEST_CASE("given first matches skip exactly the first round of queries") {
-  const Eigen::MatrixXd model = random_points(3, 200, 61);
-  Eigen::VectorXd t;
-  const Eigen::MatrixXd R = random_motion<FullRigid>(3, 0.1, 0.05, 62, t);
-  const Eigen::MatrixXd test = R.transpose() * (model.leftCols(60).colwise() - t);
+  const Eigen::MatrixXd model = random_points(3, 200, 61), test = counted_test(model);
   const ReferenceCloud<double, 3, CountingSearch> ref(model);
   Icp<double, 3> icp;
   IcpWorkspace<double, 3> ws;
