@@ -70,6 +70,68 @@ inline std::vector<double> nice_ticks(double lo, double hi, int target) {
   return t;
 }
 
+/// Box of a placed point label (SVG user units; y grows downwards) and the
+/// text's anchor point and side.
+struct LabelBox {
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< extent
+  double x = 0, y = 0;                    ///< text anchor point (baseline)
+  bool anchor_end = false;                ///< text to the left of the point (text-anchor="end")
+};
+
+/// A conservative width of `text` in a sans-serif font of size `font`
+/// (wider than most glyphs, so the boxes err on the side of not touching).
+inline double label_width(const std::string& text, double font) { return 0.6 * font * static_cast<double>(text.size()); }
+
+inline bool overlaps(const LabelBox& a, const LabelBox& b) {
+  return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
+}
+
+/// Places labels next to their points (px, py) inside the plot area
+/// [left, right] x [top, bottom], in order: right of the point, or left of
+/// it where the text would cross the right edge; at the first vertical
+/// offset (just above the point, just below, then further away alternately)
+/// where the box stays inside the area and overlaps no label placed before.
+/// A label with no free place within 6 lines keeps the place just above its
+/// point.
+inline std::vector<LabelBox> place_labels(const std::vector<double>& px, const std::vector<double>& py,
+                                          const std::vector<std::string>& text, double font, double left,
+                                          double right, double top, double bottom) {
+  std::vector<LabelBox> placed;
+  const double gap = 5, line = font + 2;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const double w = label_width(text[i], font);
+    LabelBox b;
+    b.anchor_end = px[i] + gap + w > right && px[i] - gap - w >= left;
+    b.x = b.anchor_end ? px[i] - gap : px[i] + gap;
+    b.x0 = b.anchor_end ? b.x - w : b.x;
+    b.x1 = b.anchor_end ? b.x : b.x + w;
+    auto at = [&](double baseline) {
+      LabelBox c = b;
+      c.y = baseline;
+      c.y0 = baseline - font;
+      c.y1 = baseline + 2;
+      return c;
+    };
+    LabelBox chosen = at(py[i] - gap);
+    for (int k = 0; k < 6; ++k) {
+      const double offsets[2] = {py[i] - gap - k * line, py[i] + gap + font + k * line};
+      bool found = false;
+      for (double baseline : offsets) {
+        const LabelBox c = at(baseline);
+        if (c.y0 < top || c.y1 > bottom) continue;
+        if (std::none_of(placed.begin(), placed.end(), [&](const LabelBox& o) { return overlaps(c, o); })) {
+          chosen = c;
+          found = true;
+          break;
+        }
+      }
+      if (found) break;
+    }
+    placed.push_back(chosen);
+  }
+  return placed;
+}
+
 }  // namespace detail
 
 /// Renders `p` as a standalone SVG document.
@@ -137,7 +199,10 @@ inline std::string render_svg(const Plot& p) {
        escape_xml(p.x_label) + "</text>\n";
   s += "<text transform=\"translate(16," + fmt("%.1f", top + ph / 2) + ") rotate(-90)\" text-anchor=\"middle\">" +
        escape_xml(p.y_label) + "</text>\n";
-  // Series and legend.
+  // Series and legend; then every series' point labels, placed together so
+  // that no two overlap.
+  std::vector<double> label_x, label_y;
+  std::vector<std::string> labels;
   for (std::size_t k = 0; k < p.series.size(); ++k) {
     const auto& ser = p.series[k];
     const std::string c = colors[k % (sizeof colors / sizeof *colors)];
@@ -150,17 +215,29 @@ inline std::string render_svg(const Plot& p) {
     for (std::size_t i = 0; i < ser.x.size(); ++i) {
       s += "<circle cx=\"" + fmt("%.1f", X(ser.x[i])) + "\" cy=\"" + fmt("%.1f", Y(ser.y[i])) + "\" r=\"" +
            (ser.markers_only ? "4" : "2.5") + "\" fill=\"" + c + "\"/>\n";
-      if (i < ser.point_labels.size() && !ser.point_labels[i].empty())
-        s += "<text x=\"" + fmt("%.1f", X(ser.x[i]) + 5) + "\" y=\"" + fmt("%.1f", Y(ser.y[i]) - 5) +
-             "\" font-size=\"9\" fill=\"#444\">" + escape_xml(ser.point_labels[i]) + "</text>\n";
+      if (i < ser.point_labels.size() && !ser.point_labels[i].empty()) {
+        label_x.push_back(X(ser.x[i]));
+        label_y.push_back(Y(ser.y[i]));
+        labels.push_back(ser.point_labels[i]);
+      }
     }
     const double ly = top + 10 + 18 * static_cast<double>(k);
-    s += "<line x1=\"" + fmt("%.1f", left + pw + 12) + "\" x2=\"" + fmt("%.1f", left + pw + 36) + "\" y1=\"" +
-         fmt("%.1f", ly) + "\" y2=\"" + fmt("%.1f", ly) + "\" stroke=\"" + c + "\" stroke-width=\"2.5\"" +
-         (ser.dashed ? " stroke-dasharray=\"6,4\"" : "") + "/>\n";
+    if (ser.markers_only)
+      s += "<circle cx=\"" + fmt("%.1f", left + pw + 24) + "\" cy=\"" + fmt("%.1f", ly) + "\" r=\"4\" fill=\"" + c +
+           "\"/>\n";
+    else
+      s += "<line x1=\"" + fmt("%.1f", left + pw + 12) + "\" x2=\"" + fmt("%.1f", left + pw + 36) + "\" y1=\"" +
+           fmt("%.1f", ly) + "\" y2=\"" + fmt("%.1f", ly) + "\" stroke=\"" + c + "\" stroke-width=\"2.5\"" +
+           (ser.dashed ? " stroke-dasharray=\"6,4\"" : "") + "/>\n";
     s += "<text x=\"" + fmt("%.1f", left + pw + 42) + "\" y=\"" + fmt("%.1f", ly + 4) + "\">" + escape_xml(ser.name) +
          "</text>\n";
   }
+  const std::vector<detail::LabelBox> boxes =
+      detail::place_labels(label_x, label_y, labels, 9, left, left + pw, top, top + ph);
+  for (std::size_t i = 0; i < boxes.size(); ++i)
+    s += "<text x=\"" + fmt("%.1f", boxes[i].x) + "\" y=\"" + fmt("%.1f", boxes[i].y) + "\"" +
+         (boxes[i].anchor_end ? " text-anchor=\"end\"" : "") + " font-size=\"9\" fill=\"#444\">" +
+         escape_xml(labels[i]) + "</text>\n";
   s += "</svg>\n";
   return s;
 }
