@@ -266,9 +266,12 @@ void write_figures(const fs::path& out, const CrossValidationResult& r, std::vec
       const std::size_t t = r.touches.size() - 1;
       p.title = sw.method + ": rate at " + std::to_string(r.touches[t]) + " touches";
       p.x_label = "weight on " + sw.terms[1];
-      std::map<double, PlotSeries> lines;
+      // One line per value of the third weight. The grid makes the last
+      // weight 1 minus the others, so equal values can differ in the last
+      // bits; keyed by the value rounded to 1e-9 (grid steps are far coarser).
+      std::map<long long, PlotSeries> lines;
       for (std::size_t g = 0; g < sw.grid.size(); ++g) {
-        PlotSeries& s = lines[sw.grid[g][2]];
+        PlotSeries& s = lines[std::llround(sw.grid[g][2] * 1e9)];
         s.name = "w(" + sw.terms[2] + ") = " + csv_number(sw.grid[g][2]);
         s.x.push_back(sw.grid[g][1]);
         s.y.push_back(sw.total[t] ? static_cast<double>(sw.correct[g][t]) / static_cast<double>(sw.total[t]) : 0);

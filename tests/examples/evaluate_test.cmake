@@ -47,6 +47,19 @@ foreach(f fig_single.svg fig_hybrid_all.svg fig_weights_iclappicppbow.svg)
     message(FATAL_ERROR "missing ${f}")
   endif()
 endforeach()
+# The three-term weight figure has one line per weight on bow: the paper's
+# grid (steps of 0.1, each weight at least 0.1) gives it 8 values, 0.1 to 0.8,
+# each once in the legend (the last weight is 1 minus the others, so equal
+# values must not be told apart by their rounding).
+file(READ ${WORK_DIR}/one/fig_weights_iclappicppbow.svg svg)
+string(REGEX MATCHALL ">w\\(bow\\) = [0-9.]+<" legend "${svg}")
+set(distinct ${legend})
+list(REMOVE_DUPLICATES distinct)
+list(LENGTH legend n_legend)
+list(LENGTH distinct n_distinct)
+if(NOT n_legend EQUAL 8 OR NOT n_distinct EQUAL 8)
+  message(FATAL_ERROR "fig_weights_iclappicppbow.svg: ${n_legend} legend entries, ${n_distinct} distinct, expected 8: ${legend}")
+endif()
 if(NOT printed MATCHES "3 objects, [0-9]+ frames, [0-9]+ touches.*3 folds" OR NOT printed MATCHES "iclap\\+icp\\+bow: \\[0\\]")
   message(FATAL_ERROR "unexpected report:\n${printed}")
 endif()
