@@ -225,6 +225,7 @@ void write_figures(const fs::path& out, const CrossValidationResult& r, std::vec
     Plot p;
     p.title = f.title;
     p.x_label = "number of touches";
+    p.x_integer = true;
     p.y_label = "recognition rate";
     for (const auto& name : f.methods)
       if (by_name.count(name)) p.series.push_back(series_of(name, name == "iclap" && f.methods.front() == "iclap"));
@@ -236,6 +237,7 @@ void write_figures(const fs::path& out, const CrossValidationResult& r, std::vec
     Plot p;
     p.title = "All evaluated methods";
     p.x_label = "number of touches";
+    p.x_integer = true;
     p.y_label = "recognition rate";
     for (const auto& m : r.methods) p.series.push_back(series_of(m.name));
     write_file(out / "fig_all_methods.svg", render_svg(p));
@@ -253,6 +255,7 @@ void write_figures(const fs::path& out, const CrossValidationResult& r, std::vec
     if (sw.terms.size() == 2) {
       p.title = sw.method + ": rate with weight w on " + sw.terms[0];
       p.x_label = "number of touches";
+      p.x_integer = true;
       for (std::size_t g = 0; g < sw.grid.size(); ++g) {
         PlotSeries s;
         s.name = "w = " + csv_number(sw.grid[g][0]);

@@ -30,6 +30,7 @@ struct Plot {
   bool y_percent = true;              ///< tick labels as percentages
   bool x_log = false;                 ///< logarithmic x axis
   bool y_auto = false;                ///< fit the y range to the data instead
+  bool x_integer = false;             ///< x ticks at whole numbers only (e.g. touch counts)
 };
 
 namespace detail {
@@ -54,17 +55,22 @@ inline std::string fmt(const char* f, double v) {
   return buf;
 }
 
-inline std::vector<double> nice_ticks(double lo, double hi, int target) {
+/// About `target` ticks over [lo, hi] at 1, 2, 2.5 or 5 times a power of
+/// ten; with `integer`, whole-number steps only (at least 1).
+inline std::vector<double> nice_ticks(double lo, double hi, int target, bool integer = false) {
   const double span = hi - lo;
   if (!(span > 0)) return {lo};
   const double raw = span / target;
   const double mag = std::pow(10.0, std::floor(std::log10(raw)));
-  double step = mag;
-  for (double m : {1.0, 2.0, 2.5, 5.0, 10.0})
-    if (m * mag >= raw) {
-      step = m * mag;
+  double step = integer ? std::max(1.0, 10 * mag) : 10 * mag;
+  for (double m : {1.0, 2.0, 2.5, 5.0, 10.0}) {
+    const double candidate = m * mag;
+    if (integer && (candidate < 1 || std::floor(candidate) != candidate)) continue;
+    if (candidate >= raw) {
+      step = candidate;
       break;
     }
+  }
   std::vector<double> t;
   for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * span; v += step) t.push_back(v);
   return t;
@@ -185,7 +191,7 @@ inline std::string render_svg(const Plot& p) {
     for (double e = std::floor(x0); e <= std::ceil(x1); e += 1)
       if (e >= x0 - 1e-9 && e <= x1 + 1e-9) xt.push_back(std::pow(10.0, e));
   } else {
-    xt = detail::nice_ticks(x0, x1, 8);
+    xt = detail::nice_ticks(x0, x1, 8, p.x_integer);
   }
   for (double t : xt) {
     s += "<line x1=\"" + fmt("%.1f", X(t)) + "\" x2=\"" + fmt("%.1f", X(t)) + "\" y1=\"" + fmt("%.1f", top) +

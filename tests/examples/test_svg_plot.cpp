@@ -100,3 +100,13 @@ TEST_CASE("render_svg: scatter labels and legend") {
   CHECK(count(svg, "stroke-width=\"2.5\"") == 1);
   CHECK(count(svg, "<circle") == 2 * all.x.size() + 1);
 }
+
+TEST_CASE("axis ticks: whole numbers on request (touch counts)") {
+  using iclap::cli::detail::nice_ticks;
+  // 1..20 touches: the free choice is steps of 2.5, whole numbers give 5.
+  CHECK(nice_ticks(1, 20, 8) == std::vector<double>{2.5, 5, 7.5, 10, 12.5, 15, 17.5, 20});
+  CHECK(nice_ticks(1, 20, 8, true) == std::vector<double>{5, 10, 15, 20});
+  // A short range never gets fractional ticks: steps of at least 1.
+  CHECK(nice_ticks(1, 3, 8, true) == std::vector<double>{1, 2, 3});
+  CHECK(nice_ticks(0, 100, 4, true) == std::vector<double>{0, 25, 50, 75, 100});
+}
