@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -76,11 +77,13 @@ int main(int argc, char** argv) {
       out = argv[++i];
     } else if (!std::strcmp(argv[i], "--sizes") && i + 1 < argc) {
       sizes.clear();
-      for (const char* p = argv[++i]; *p;) {
+      const char* list = argv[++i];
+      for (const char* p = list; *p;) {
         char* end = nullptr;
         const long v = std::strtol(p, &end, 10);
-        if (end == p || v < 2) {
-          std::fprintf(stderr, "scaling_study: bad --sizes\n");
+        if (end == p || v < 2 || (*end != ',' && *end != '\0')) {
+          std::fprintf(stderr, "scaling_study: --sizes: '%s' is not a comma-separated list of object counts >= 2\n",
+                       list);
           return 2;
         }
         sizes.push_back(static_cast<std::size_t>(v));

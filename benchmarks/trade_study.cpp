@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <functional>
@@ -202,7 +203,16 @@ int main(int argc, char** argv) {
   std::vector<std::string> only;  // groups to run besides the baseline (empty: all)
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i];
-    else if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) repeats = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) {
+      const char* text = argv[++i];
+      char* end = nullptr;
+      const long v = std::strtol(text, &end, 10);
+      if (end == text || *end != '\0' || v < 1 || v > 1000) {
+        std::fprintf(stderr, "trade_study: --repeats: '%s' is not a whole number in [1, 1000]\n", text);
+        return 2;
+      }
+      repeats = static_cast<int>(v);
+    }
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
       std::string list = argv[++i];
       for (std::size_t at = 0; at <= list.size();) {
@@ -215,10 +225,6 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "usage: trade_study [DATASET.csv] [--out DIR] [--repeats N] [--only GROUP,...]\n");
       return 2;
     }
-  }
-  if (repeats < 1) {
-    std::fprintf(stderr, "trade_study: --repeats must be >= 1\n");
-    return 2;
   }
   std::vector<Setting> settings = grid();
   for (const auto& g : only)
