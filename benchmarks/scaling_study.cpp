@@ -16,7 +16,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -28,6 +27,7 @@
 #include "iclap/sim/builtin_objects.hpp"
 #include "iclap/sim/simulator.hpp"
 #include "iclap/tactile/tactile_sift.hpp"
+#include "cli.hpp"
 #include "cpu_time.hpp"
 #include "csv_field.hpp"
 #include "held_out.hpp"
@@ -77,17 +77,12 @@ int main(int argc, char** argv) {
       out = argv[++i];
     } else if (!std::strcmp(argv[i], "--sizes") && i + 1 < argc) {
       sizes.clear();
-      const char* list = argv[++i];
-      for (const char* p = list; *p;) {
-        char* end = nullptr;
-        const long v = std::strtol(p, &end, 10);
-        if (end == p || v < 2 || (*end != ',' && *end != '\0')) {
-          std::fprintf(stderr, "scaling_study: --sizes: '%s' is not a comma-separated list of object counts >= 2\n",
-                       list);
-          return 2;
-        }
-        sizes.push_back(static_cast<std::size_t>(v));
-        p = *end == ',' ? end + 1 : end;
+      try {
+        for (const std::string& item : cli::Options::split(argv[++i], ','))
+          sizes.push_back(static_cast<std::size_t>(cli::Options::parse_integer(item, "--sizes", 2, 1000000)));
+      } catch (const cli::UsageError& e) {
+        std::fprintf(stderr, "scaling_study: %s (a comma-separated list of object counts)\n", e.what());
+        return 2;
       }
     } else {
       std::fprintf(stderr, "usage: scaling_study [--sizes 20,100,500] [--out DIR]\n");

@@ -19,7 +19,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <functional>
@@ -35,6 +34,7 @@
 #include "iclap/tactile/moments.hpp"
 #include "iclap/tactile/raw_pressures.hpp"
 #include "iclap/tactile/tactile_sift.hpp"
+#include "cli.hpp"
 #include "csv_field.hpp"
 #include "svg_plot.hpp"
 
@@ -204,22 +204,14 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i];
     else if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) {
-      const char* text = argv[++i];
-      char* end = nullptr;
-      const long v = std::strtol(text, &end, 10);
-      if (end == text || *end != '\0' || v < 1 || v > 1000) {
-        std::fprintf(stderr, "trade_study: --repeats: '%s' is not a whole number in [1, 1000]\n", text);
+      try {
+        repeats = static_cast<int>(cli::Options::parse_integer(argv[++i], "--repeats", 1, 1000));
+      } catch (const cli::UsageError& e) {
+        std::fprintf(stderr, "trade_study: %s\n", e.what());
         return 2;
       }
-      repeats = static_cast<int>(v);
-    }
-    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
-      std::string list = argv[++i];
-      for (std::size_t at = 0; at <= list.size();) {
-        const std::size_t comma = std::min(list.find(',', at), list.size());
-        only.push_back(list.substr(at, comma - at));
-        at = comma + 1;
-      }
+    } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
+      only = cli::Options::split(argv[++i], ',');
     } else if (argv[i][0] != '-') dataset_path = argv[i];
     else {
       std::fprintf(stderr, "usage: trade_study [DATASET.csv] [--out DIR] [--repeats N] [--only GROUP,...]\n");
