@@ -105,13 +105,14 @@ void BM_IclapDecision(benchmark::State& state, PruningSettings::Schedule schedul
 }
 
 /// All 20 distances of one registration classifier with `leaf` points per
-/// kd-tree leaf in its references: what the default reference search
-/// settings (24) save against KdTreeSearch's own default (10). The distances
-/// are identical (tests/recognition/test_pruning.cpp).
+/// kd-tree leaf in its references (always a kd-tree here): what the default
+/// reference search settings (24) save against KdTreeSearch's own default
+/// (10). The distances are identical (tests/recognition/test_pruning.cpp).
 template <typename C>
 void BM_LeafSize(benchmark::State& state) {
   const Scene& s = scene();
   C c;
+  c.search_settings.brute_force_max_coordinates = 0;
   c.search_settings.leaf_max_size = static_cast<std::size_t>(state.range(0));
   c.fit(s.objects, s.k);
   Eigen::VectorXd d(static_cast<Index>(s.objects.size()));
@@ -141,8 +142,31 @@ void BM_PoolDistances(benchmark::State& state) {
   }
 }
 
+/// All 20 distances of the same tests with each search of the references
+/// (AdaptiveSearch settings): search:0 the kd-tree (24 points per leaf),
+/// search:1 the default, which scans these references (about 280 points)
+/// by brute force, with AVX2 where the CPU has it, search:2 the same
+/// without AVX2 (the baseline x86-64 code). The distances are identical
+/// (tests/search/test_search.cpp, tests/recognition/test_recognition.cpp).
+template <typename C>
+void BM_Search(benchmark::State& state) {
+  const Scene& s = scene();
+  C c;
+  if (state.range(0) == 0) c.search_settings.brute_force_max_coordinates = 0;
+  if (state.range(0) == 2) c.search_settings.use_avx2 = false;
+  c.fit(s.objects, s.k);
+  Eigen::VectorXd d(static_cast<Index>(s.objects.size()));
+  std::size_t i = 0;
+  for (auto _ : state) {
+    c.distances(s.tests[i++ % s.tests.size()], d);
+    benchmark::DoNotOptimize(d.data());
+  }
+}
+
 }  // namespace
 
+BENCHMARK_TEMPLATE(BM_Search, IcpClassifier<float, Planar>)->Arg(0)->Arg(1)->Arg(2)->ArgName("search");
+BENCHMARK_TEMPLATE(BM_Search, IclapClassifier<float, Planar>)->Arg(0)->Arg(1)->Arg(2)->ArgName("search");
 BENCHMARK_TEMPLATE(BM_PoolDistances, IcpClassifier<float, Planar>);
 BENCHMARK_TEMPLATE(BM_PoolDistances, IclapClassifier<float, Planar>);
 BENCHMARK_TEMPLATE(BM_LeafSize, IcpClassifier<float, Planar>)->Arg(10)->Arg(24)->ArgName("leaf");

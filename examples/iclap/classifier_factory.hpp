@@ -5,6 +5,8 @@
 // ask for. Instantiated once per scalar type in its own translation unit
 // (classifiers_float.cpp, classifiers_double.cpp) so they compile in parallel.
 
+#include <cstddef>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,6 +28,10 @@ void configure(C& c, const RecognitionOptions& o, const std::string& label) {
   c.icp.termination.max_iterations = o.max_iterations;
   c.icp.termination.relative_tolerance = static_cast<Scalar>(o.relative_tolerance);
   c.icp.rejection.trim_fraction = static_cast<Scalar>(o.trim_of(label));
+  // --search: AdaptiveSearch chooses per reference (auto), or always the
+  // kd-tree, or always brute force.
+  if (o.search == "kdtree") c.search_settings.brute_force_max_coordinates = 0;
+  if (o.search == "brute") c.search_settings.brute_force_max_coordinates = std::numeric_limits<std::size_t>::max();
 }
 
 /// `name` is the base classifier ("patch"), `label` its name in the
@@ -89,8 +95,7 @@ std::vector<std::unique_ptr<Classifier>> make_classifiers_for(const RecognitionO
       c->tilt_scale = o.tilt_scale;
       out.push_back(std::move(c));
     } else if (is_registration_classifier(name)) {
-      out.push_back(o.search == "brute" ? make_with_search<Scalar, BruteForceSearch>(name, label, o)
-                                        : make_with_search<Scalar, KdTreeSearch>(name, label, o));
+      out.push_back(make_with_search<Scalar, AdaptiveSearch>(name, label, o));
     } else {
       throw UsageError("unknown classifier '" + name + "' (known: " + Options::join(known_classifiers(), ", ") + ")");
     }

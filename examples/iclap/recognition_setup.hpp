@@ -40,7 +40,7 @@ struct RecognitionOptions {
   std::string descriptor = "sift";   ///< sift | raw | moments
   std::string transform = "planar";  ///< full | spatial | planar | translation
   std::string scalar = "float";      ///< float | double
-  std::string search = "kdtree";     ///< kdtree | brute
+  std::string search = "auto";       ///< auto | kdtree | brute (see AdaptiveSearch)
   Index k = 50;                      ///< codebook size (paper: 50)
   std::uint64_t codebook_seed = 1;
   double label_scale = 0.001;        ///< metres per word step (iCLAP's 4th axis)
@@ -176,7 +176,9 @@ struct RecognitionOptions {
            "  --descriptor-scale S    metres per descriptor unit for iclapn (default 0.01)\n"
            "  --tilt-scale S          metres per radian of pad tilt for height (default 0.01)\n"
            "  --scalar float|double   ICP arithmetic (default float)\n"
-           "  --search kdtree|brute   closest-point search (default kdtree)\n"
+           "  --search auto|kdtree|brute  closest-point search: auto (default) scans small\n"
+           "                          references by brute force and builds kd-trees for the\n"
+           "                          others; the answers are the same, only the time differs\n"
            "  --max-iterations N      ICP iteration cap (default 50)\n"
            "  --relative-tolerance R  ICP relative-change stop (default 1e-6)\n"
            "  --trim F|NAME=F,...     trimmed ICP: the distance and the motion use the closest\n"
@@ -193,7 +195,7 @@ struct RecognitionOptions {
     descriptor = o.choice("descriptor", {"sift", "raw", "moments"}, descriptor);
     transform = o.choice("transform", {"full", "spatial", "planar", "translation"}, transform);
     scalar = o.choice("scalar", {"float", "double"}, scalar);
-    search = o.choice("search", {"kdtree", "brute"}, search);
+    search = o.choice("search", {"auto", "kdtree", "brute"}, search);
     k = static_cast<Index>(o.integer("k", k, 1, 100000));
     label_scale = o.number("label-scale", label_scale, 0.0);
     if (!(label_scale > 0)) throw UsageError("--label-scale must be > 0");

@@ -73,10 +73,10 @@ if(a STREQUAL b)
 endif()
 # Trimmed ICP (--trim): reported with the ICP settings; the untrimmed run
 # reports every pair.
-expect_match("${printed}" "ICP \\(kdtree; at most 50 iterations, relative tolerance 1e-06; every pair\\)")
+expect_match("${printed}" "ICP \\(auto; at most 50 iterations, relative tolerance 1e-06; every pair\\)")
 run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods icp,iclap --touches 5 --repeats 3 --seed 7 --trim 0.5,iclap=0.7
     --out ${WORK_DIR}/trimmed)
-expect_match("${out}" "ICP \\(kdtree; at most 50 iterations, relative tolerance 1e-06; trimmed: icp 50%, iclap 70%\\)")
+expect_match("${out}" "ICP \\(auto; at most 50 iterations, relative tolerance 1e-06; trimmed: icp 50%, iclap 70%\\)")
 expect_file_lines(${WORK_DIR}/trimmed/results.csv 3 "")  # 1 + 2 methods x 1 touch count
 # Trim chosen on the training folds (--trim NAME=auto): one variant per
 # choice, the chosen one reported per fold, the same rows as any method.

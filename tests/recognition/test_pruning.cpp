@@ -254,28 +254,39 @@ TEST_CASE("multi-start widens the basin; subsampling bounds the reference size")
 
 TEST_CASE("the reference search settings change the speed, never the distances") {
   const Scene sc = make_scene(8, 5);
-  IclapClassifier<float, Planar> by_default, tiny_leaves, one_leaf;
-  by_default.embedding.label_scale = tiny_leaves.embedding.label_scale = one_leaf.embedding.label_scale = 0.002;
+  // by_default scans these small references by brute force (AdaptiveSearch);
+  // the others are kd-trees of several leaf sizes, or brute force without AVX2.
+  IclapClassifier<float, Planar> by_default, tiny_leaves, one_leaf, baseline_isa;
+  by_default.embedding.label_scale = tiny_leaves.embedding.label_scale = one_leaf.embedding.label_scale =
+      baseline_isa.embedding.label_scale = 0.002;
   CHECK(by_default.search_settings.leaf_max_size == 24);
+  tiny_leaves.search_settings.brute_force_max_coordinates = one_leaf.search_settings.brute_force_max_coordinates = 0;
   tiny_leaves.search_settings.leaf_max_size = 1;
   one_leaf.search_settings.leaf_max_size = 1000;  // one leaf: brute force inside the tree
-  for (auto* c : {&by_default, &tiny_leaves, &one_leaf}) c->fit(sc.objects, 4);
+  baseline_isa.search_settings.use_avx2 = false;
+  for (auto* c : {&by_default, &tiny_leaves, &one_leaf, &baseline_isa}) c->fit(sc.objects, 4);
+  CHECK(!by_default.references().front().search().uses_tree());
+  CHECK(tiny_leaves.references().front().search().uses_tree());
   IcpClassifier<double, Planar> icp_default, icp_tiny;
+  icp_tiny.search_settings.brute_force_max_coordinates = 0;
   icp_tiny.search_settings.leaf_max_size = 2;
   icp_default.fit(sc.objects, 4);
   icp_tiny.fit(sc.objects, 4);
   for (const auto& [truth, test] : sc.tests) {
     (void)truth;
-    Eigen::VectorXd a(8), b(8), c(8);
+    Eigen::VectorXd a(8), b(8), c(8), d(8);
     by_default.distances(test, a);
     tiny_leaves.distances(test, b);
     one_leaf.distances(test, c);
+    baseline_isa.distances(test, d);
     CHECK(a == b);  // bit for bit: same neighbours, same arithmetic
     CHECK(a == c);
+    CHECK(a == d);
     icp_default.distances(test, a);
     icp_tiny.distances(test, b);
     CHECK(a == b);
   }
+  // A leaf size of 0 is refused even where the references would not need a tree.
   IclapClassifier<float, Planar> bad;
   bad.search_settings.leaf_max_size = 0;
   CHECK_THROWS_AS(bad.fit(sc.objects, 4), InvalidArgument);

@@ -131,3 +131,133 @@ TEST_CASE("copies share the tree and stay valid after the original is gone") {
   CHECK(copy.size() == 64);
   CHECK(copy.nearest(Eigen::Vector3d(0.1, 0.2, 0.3)).index == brute.nearest(Eigen::Vector3d(0.1, 0.2, 0.3)).index);
 }
+
+namespace {
+/// The definition the vectorised scan must reproduce bit for bit: every
+/// point's squared_distance, the smaller index on ties, NaN never wins.
+template <typename T>
+Neighbor<T> scan(const Cloud<T, Eigen::Dynamic>& pts, const T* query) {
+  Neighbor<T> best;
+  for (Index j = 0; j < pts.cols(); ++j) {
+    const T d = detail::squared_distance<Eigen::Dynamic>(query, pts.col(j).data(), pts.rows());
+    if (detail::closer(d, j, best.squared_distance, best.index)) {
+      best.index = j;
+      best.squared_distance = d;
+    }
+  }
+  return best;
+}
+
+template <typename T>
+BruteForceSearch<T> brute_with(const Cloud<T, Eigen::Dynamic>& pts, bool avx2) {
+  typename BruteForceSearch<T>::Settings s;
+  s.use_avx2 = avx2;
+  return BruteForceSearch<T>(pts, s);
+}
+}  // namespace
+
+TEST_CASE_TEMPLATE("vectorised brute force: both code paths give the scalar scan's answers", T, float, double) {
+  // Sizes around the block widths (8 floats, 4 doubles) and dimensions on
+  // both sides of the 8-coordinate switch of squared_distance.
+  for (Index dim : {1, 2, 3, 4, 7, 8, 9, 16, 75}) {
+    for (Index n : {1, 3, 4, 5, 7, 8, 9, 15, 16, 17, 33, 281}) {
+      const auto pts = random_cloud<T, Eigen::Dynamic>(dim, n, 1000 + static_cast<std::uint64_t>(dim * 1000 + n));
+      const auto avx2 = brute_with<T>(pts, true);
+      const auto baseline = brute_with<T>(pts, false);
+      const auto queries = random_cloud<T, Eigen::Dynamic>(dim, 20, 5, 1.5);
+      for (Index q = 0; q < queries.cols(); ++q) {
+        CAPTURE(dim);
+        CAPTURE(n);
+        const auto expected = scan<T>(pts, queries.col(q).data());
+        const auto a = avx2.nearest(queries.col(q).data());
+        const auto b = baseline.nearest(queries.col(q).data());
+        REQUIRE(expected.index >= 0);
+        CHECK(a.index == expected.index);
+        CHECK(a.squared_distance == expected.squared_distance);
+        CHECK(b.index == expected.index);
+        CHECK(b.squared_distance == expected.squared_distance);
+      }
+    }
+  }
+}
+
+TEST_CASE_TEMPLATE("vectorised brute force: ties across lanes and blocks go to the smaller index", T, float, double) {
+  // The same point at indices in one lane of different blocks (3, 11, 19 for
+  // floats), in different lanes of one block (20, 21) and in the last,
+  // partly filled block (40), among distinct points.
+  Cloud<T, Eigen::Dynamic> pts = random_cloud<T, Eigen::Dynamic>(3, 41, 17, 1.0, 5.0);
+  Eigen::Matrix<T, Eigen::Dynamic, 1> p(3);
+  p << T(0.25), T(-0.5), T(0.125);
+  for (Index j : {Index(40), Index(21), Index(20), Index(19), Index(11), Index(3)}) {
+    pts.col(j) = p;
+    for (bool avx2 : {true, false}) {
+      const auto search = brute_with<T>(pts, avx2);
+      CHECK(search.nearest(p.data()).index == j);
+      CHECK(search.nearest(p.data()).squared_distance == T(0));
+      // A query equidistant from two points: the smaller index.
+      Eigen::Matrix<T, Eigen::Dynamic, 1> q = p;
+      q(0) += T(0.001);
+      CHECK(search.nearest(q.data()).index == j);
+    }
+  }
+}
+
+TEST_CASE("vectorised brute force: non-finite queries and overflowing distances as the scalar scan") {
+  const auto pts = random_cloud<float, Eigen::Dynamic>(3, 13, 23, 1e20);
+  for (bool avx2 : {true, false}) {
+    const auto search = brute_with<float>(pts, avx2);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float with_nan[3] = {0.0f, nan, 0.0f};
+    CHECK(search.nearest(with_nan).index == -1);  // every distance is NaN
+    // Far beyond float range when squared: the distances overflow to
+    // infinity, none is closer than "none", as in the scalar definition.
+    const float far[3] = {3e38f, 3e38f, 3e38f};
+    const auto expected = scan<float>(pts, far);
+    CHECK(search.nearest(far).index == expected.index);
+    const float zero[3] = {0.0f, 0.0f, 0.0f};
+    CHECK(search.nearest(zero).index == scan<float>(pts, zero).index);
+  }
+  CHECK(BruteForceSearch<float, 3>().nearest(Eigen::Vector3f(0, 0, 0)).index == -1);
+}
+
+TEST_CASE_TEMPLATE("adaptive search: brute force on small clouds, a kd-tree on large ones, the same answers", T, float,
+                   double) {
+  static_assert(detail::has_hinted_nearest<AdaptiveSearch<T, 3>, T>::value);
+  for (Index n : {5, 300, 682, 683, 3000}) {
+    const auto pts = random_cloud<T, 3>(3, n, 31 + static_cast<std::uint64_t>(n));
+    const AdaptiveSearch<T, 3> adaptive(pts);  // default: at most 2048 coordinates by brute force
+    CHECK(adaptive.uses_tree() == (3 * n > 2048));
+    typename AdaptiveSearch<T, 3>::Settings tree_only, brute_only;
+    tree_only.brute_force_max_coordinates = 0;
+    brute_only.brute_force_max_coordinates = std::numeric_limits<std::size_t>::max();
+    const AdaptiveSearch<T, 3> tree(pts, tree_only), brute(pts, brute_only);
+    CHECK(tree.uses_tree());
+    CHECK(!brute.uses_tree());
+    CHECK(adaptive.size() == n);
+    CHECK(adaptive.dim() == 3);
+    CHECK(adaptive.points() == pts);
+    const auto queries = random_cloud<T, 3>(3, 30, 32, 1.3);
+    for (Index q = 0; q < queries.cols(); ++q) {
+      const auto expected = scan<T>(Cloud<T, Eigen::Dynamic>(pts), queries.col(q).data());
+      for (const auto* s : {&adaptive, &tree, &brute}) {
+        CHECK(s->nearest(queries.col(q).data()).index == expected.index);
+        CHECK(s->nearest(queries.col(q).data()).squared_distance == expected.squared_distance);
+        for (Index hint : {expected.index, Index(0), Index(-1), n})
+          CHECK(s->nearest(queries.col(q).data(), hint).index == expected.index);
+      }
+    }
+  }
+  CHECK_THROWS_AS(AdaptiveSearch<T>(Cloud<T, Eigen::Dynamic>(3, 0)), EmptyInput);
+  using Search3 = AdaptiveSearch<T, 3>;
+  Cloud<T, 3> bad = Cloud<T, 3>::Zero(3, 2);
+  bad(2, 1) = std::numeric_limits<T>::infinity();
+  CHECK_THROWS_AS(Search3{bad}, NonFiniteValue);  // by brute force (small) and by the tree
+  typename Search3::Settings zero_leaf;
+  zero_leaf.brute_force_max_coordinates = 0;
+  CHECK_THROWS_AS(Search3(Cloud<T, 3>(bad), zero_leaf), NonFiniteValue);
+  zero_leaf.leaf_max_size = 0;
+  CHECK_THROWS_AS(Search3(Cloud<T, 3>::Zero(3, 4), zero_leaf), InvalidArgument);
+  typename Search3::Settings small_zero_leaf;  // refused for a cloud brute force would take too
+  small_zero_leaf.leaf_max_size = 0;
+  CHECK_THROWS_AS(Search3(Cloud<T, 3>::Zero(3, 4), small_zero_leaf), InvalidArgument);
+}

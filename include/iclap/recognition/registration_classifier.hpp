@@ -19,6 +19,7 @@
 #include "iclap/core/error.hpp"
 #include "iclap/recognition/classifier.hpp"
 #include "iclap/registration/registration.hpp"
+#include "iclap/search/adaptive.hpp"
 
 namespace iclap {
 
@@ -311,7 +312,7 @@ struct PrunedDecision {
 /// included) are built once in `fit` and shared by every `distances` call;
 /// `distances` is const and thread-safe (per-thread buffers).
 template <typename Embedding, typename Scalar = float, int Dim = Embedding::dimension, typename Model = Planar,
-          typename Search = KdTreeSearch<Scalar, Dim>>
+          typename Search = AdaptiveSearch<Scalar, Dim>>
 class RegistrationClassifier final : public Classifier {
  public:
   using Reference = ReferenceCloud<Scalar, Dim, Search>;
@@ -330,10 +331,13 @@ class RegistrationClassifier final : public Classifier {
   /// order, which is time order along the sweeps); 0 keeps all.
   Index max_reference_points = 0;
   /// Settings of each reference's search structure. Speed only: every
-  /// setting gives the same distances. For the kd-tree, 24 points per leaf
-  /// (`KdTreeSearch` alone defaults to 10): 9-14% less time per
-  /// recognition on the built-in references (`bench_recognition
-  /// --benchmark_filter=LeafSize`, cases leaf:10 against leaf:24).
+  /// setting gives the same distances. The default `AdaptiveSearch` scans
+  /// references of up to 2048 coordinates (512 4-D points) by brute force,
+  /// about half the time of the kd-tree on the built-in objects' references
+  /// (`bench_recognition --benchmark_filter=Search`), and builds kd-trees
+  /// for larger ones with 24 points per leaf (`KdTreeSearch` alone defaults
+  /// to 10): 9-14% less time per recognition on the built-in references
+  /// than 10 (`bench_recognition --benchmark_filter=LeafSize`).
   typename Search::Settings search_settings = detail::reference_search_settings<Search>();
 
   std::string name() const override { return label; }
@@ -710,25 +714,25 @@ class RegistrationClassifier final : public Classifier {
 };
 
 /// 3-D ICP on positions (the paper's kinesthetic pipeline, "icp").
-template <typename Scalar = float, typename Model = Planar, typename Search = KdTreeSearch<Scalar, 3>>
+template <typename Scalar = float, typename Model = Planar, typename Search = AdaptiveSearch<Scalar, 3>>
 using IcpClassifier = RegistrationClassifier<PositionEmbedding, Scalar, 3, Model, Search>;
 
 /// 4-D iCLAP on (x, y, z, word) ("iclap").
-template <typename Scalar = float, typename Model = Planar, typename Search = KdTreeSearch<Scalar, 4>>
+template <typename Scalar = float, typename Model = Planar, typename Search = AdaptiveSearch<Scalar, 4>>
 using IclapClassifier = RegistrationClassifier<LabeledEmbedding, Scalar, 4, Model, Search>;
 
 /// 3-D ICP on contact patches ("patch", beyond the paper).
-template <typename Scalar = float, typename Model = Planar, typename Search = KdTreeSearch<Scalar, 3>>
+template <typename Scalar = float, typename Model = Planar, typename Search = AdaptiveSearch<Scalar, 3>>
 using PatchClassifier = RegistrationClassifier<ContactEmbedding<false>, Scalar, 3, Model, Search>;
 
 /// 4-D iCLAP on contact patches labeled with their touch's word ("iclap_patch").
-template <typename Scalar = float, typename Model = Planar, typename Search = KdTreeSearch<Scalar, 4>>
+template <typename Scalar = float, typename Model = Planar, typename Search = AdaptiveSearch<Scalar, 4>>
 using IclapPatchClassifier = RegistrationClassifier<ContactEmbedding<true>, Scalar, 4, Model, Search>;
 
 /// (3 + Length)-D iCLAP on (x, y, z, descriptor) ("iclapn"); Length is the
 /// descriptor length (72 for Tactile-SIFT 3x3x8) or Eigen::Dynamic.
 template <int Length = Eigen::Dynamic, typename Scalar = float, typename Model = Planar,
-          typename Search = KdTreeSearch<Scalar, (Length == Eigen::Dynamic ? Eigen::Dynamic : 3 + Length)>>
+          typename Search = AdaptiveSearch<Scalar, (Length == Eigen::Dynamic ? Eigen::Dynamic : 3 + Length)>>
 using IclapNClassifier =
     RegistrationClassifier<DescriptorEmbedding, Scalar, (Length == Eigen::Dynamic ? Eigen::Dynamic : 3 + Length),
                            Model, Search>;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-/// Nearest-neighbour search policies. Both model the same interface:
+/// Nearest-neighbour search policies. All model the same interface:
 ///   explicit Search(Cloud points, const Settings& = {});
 ///   Index size() const; Index dim() const; const Cloud& points() const;
 ///   Neighbor<Scalar> nearest(const Scalar* query) const;   // thread-safe
@@ -12,6 +12,9 @@
 /// a warm-started query that returns exactly what nearest(query) returns;
 /// `Icp` passes each test point's previous match as the hint when the policy
 /// has it (`KdTreeSearch` does; brute force gains nothing from a hint).
+/// `AdaptiveSearch` is brute force on small clouds and a kd-tree on the
+/// others (the recognition classifiers' default).
+#include "iclap/search/adaptive.hpp"
 #include "iclap/search/brute_force.hpp"
 #include "iclap/search/kdtree.hpp"
 #include "iclap/search/neighbor.hpp"
