@@ -91,12 +91,14 @@ std::vector<Setting> grid() {
       return c;
     };
   };
-  s.push_back({"baseline", "iclap planar float kd-tree label 1mm k50 sift", "sift", 50, iclap([](auto&) {})});
+  s.push_back({"baseline", "iclap planar float auto-search label 1mm k50 sift", "sift", 50, iclap([](auto&) {})});
   for (int it : {3, 5, 10, 20})
     s.push_back({"max iterations", std::to_string(it), "sift", 50, iclap([it](auto& c) { configure(c, it); })});
   for (double rel : {1e-4, 1e-3, 1e-2})
     s.push_back({"relative tolerance", std::to_string(rel).substr(0, 6), "sift", 50,
                  iclap([rel](auto& c) { configure(c, 50, rel); })});
+  s.push_back({"search", "kd-tree", "sift", 50,
+               iclap([](auto& c) { c.search_settings.brute_force_max_coordinates = 0; })});
   s.push_back({"search", "brute force", "sift", 50,
                [] { return std::unique_ptr<Classifier>(std::make_unique<IclapClassifier<float, Planar, BruteForceSearch<float, 4>>>()); }});
   s.push_back({"scalar", "double", "sift", 50,

@@ -9,7 +9,7 @@
 
 #include "iclap/core/error.hpp"
 #include "iclap/recognition/classifier.hpp"
-#include "iclap/search/kdtree.hpp"
+#include "iclap/search/adaptive.hpp"
 
 namespace iclap {
 
@@ -38,9 +38,10 @@ inline Eigen::Vector2d height_and_tilt(const Eigen::Vector3d& position, const Ei
 /// references never saw still lands at heights and tilts they did see. It
 /// cannot tell apart objects with the same heights and slopes, and it
 /// assumes the planar scene (the table plane fixed in the rig frame between
-/// training and test). Each object's invariants sit in a 2-D kd-tree built
-/// once per fit, so a distance costs one nearest-point query per test touch
-/// and object.
+/// training and test). Each object's invariants sit in a 2-D search
+/// structure (AdaptiveSearch: brute force up to 1024 touches, a kd-tree
+/// above) built once per fit, so a distance costs one nearest-point query
+/// per test touch and object.
 ///
 /// Needs `TouchSet::normals` (the pad orientation of every touch: dataset
 /// columns qw..qz).
@@ -59,7 +60,7 @@ class HeightClassifier final : public Classifier {
   void fit(const std::vector<TouchSet>& objects, Index /*vocabulary*/) override {
     validate();
     if (objects.empty()) throw EmptyInput("objects", "no object to recognise");
-    std::vector<KdTreeSearch<double, 2>> trees;
+    std::vector<AdaptiveSearch<double, 2>> trees;
     trees.reserve(objects.size());
     for (std::size_t j = 0; j < objects.size(); ++j) {
       const std::string name = "objects[" + std::to_string(j) + "]";
@@ -101,7 +102,7 @@ class HeightClassifier final : public Classifier {
   }
 
  private:
-  std::vector<KdTreeSearch<double, 2>> trees_;
+  std::vector<AdaptiveSearch<double, 2>> trees_;  // brute force for a few hundred touches, a kd-tree above
 };
 
 }  // namespace iclap

@@ -369,8 +369,9 @@ class RegistrationClassifier final : public Classifier {
       refs.emplace_back(points, w, search_settings);
     }
     // Lower-bound structures: the coordinates the transform model never
-    // moves, weighted, in a kd-tree per reference.
-    std::vector<KdTreeSearch<Scalar, Eigen::Dynamic>> fixed;
+    // moves, weighted, searched per reference (brute force for the usual
+    // few hundred points, a kd-tree for large references).
+    std::vector<AdaptiveSearch<Scalar, Eigen::Dynamic>> fixed;
     const Index d = refs.front().dim(), b = Model::block_size(d);
     if (d > b) {
       for (const auto& r : refs) {
@@ -709,7 +710,7 @@ class RegistrationClassifier final : public Classifier {
   }
 
   std::vector<Reference> references_;
-  std::vector<KdTreeSearch<Scalar, Eigen::Dynamic>> fixed_;
+  std::vector<AdaptiveSearch<Scalar, Eigen::Dynamic>> fixed_;
   std::uint64_t fit_id_ = 0;  // detail::next_fit_id() of the last fit, 0 before
 };
 
