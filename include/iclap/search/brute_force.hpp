@@ -148,6 +148,8 @@ __attribute__((always_inline)) inline void nearest_in_blocks(const Scalar* block
     }
 }
 
+#undef ICLAP_UNROLL
+
 template <int Dim, typename Scalar>
 inline void nearest_in_blocks_baseline(const Scalar* blocks, Index count, Index dim, const Scalar* query,
                                        Scalar& best_distance, Index& best_index) noexcept {
