@@ -28,8 +28,11 @@ namespace iclap {
 namespace detail {
 
 #if defined(ICLAP_VECTOR_BRUTE_FORCE)
+// GCC at -O2 keeps short constant-count loops rolled, so they are asked to
+// unroll. Clang unrolls those by itself, and its pragma warns (an error
+// under -Werror) on loops whose count is only known at run time.
 #if defined(__clang__)
-#define ICLAP_UNROLL _Pragma("unroll")
+#define ICLAP_UNROLL
 #else
 #define ICLAP_UNROLL _Pragma("GCC unroll 8")
 #endif
