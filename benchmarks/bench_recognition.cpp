@@ -104,16 +104,11 @@ void BM_IclapDecision(benchmark::State& state, PruningSettings::Schedule schedul
   state.counters["registrations_run"] = completed / static_cast<double>(count);
 }
 
-/// All 20 distances of one registration classifier with `leaf` points per
-/// kd-tree leaf in its references (always a kd-tree here): what the default
-/// reference search settings (24) save against KdTreeSearch's own default
-/// (10). The distances are identical (tests/recognition/test_pruning.cpp).
+/// Times all 20 distances of `c` (fitted on the scene's objects), cycling
+/// through the 20 objects' tests.
 template <typename C>
-void BM_LeafSize(benchmark::State& state) {
+void time_distances(benchmark::State& state, C& c) {
   const Scene& s = scene();
-  C c;
-  c.search_settings.brute_force_max_coordinates = 0;
-  c.search_settings.leaf_max_size = static_cast<std::size_t>(state.range(0));
   c.fit(s.objects, s.k);
   Eigen::VectorXd d(static_cast<Index>(s.objects.size()));
   std::size_t i = 0;
@@ -123,8 +118,20 @@ void BM_LeafSize(benchmark::State& state) {
   }
 }
 
-/// All 20 distances of the same tests as BM_LeafSize (default settings,
-/// leaf:24), each taken as a subset of a pool that the classifier prepared
+/// All 20 distances of one registration classifier with `leaf` points per
+/// kd-tree leaf in its references (always a kd-tree here): what the default
+/// reference search settings (24) save against KdTreeSearch's own default
+/// (10). The distances are identical (tests/recognition/test_pruning.cpp).
+template <typename C>
+void BM_LeafSize(benchmark::State& state) {
+  C c;
+  c.search_settings.brute_force_max_coordinates = 0;
+  c.search_settings.leaf_max_size = static_cast<std::size_t>(state.range(0));
+  time_distances(state, c);
+}
+
+/// All 20 distances of the same tests as BM_LeafSize (default settings),
+/// each taken as a subset of a pool that the classifier prepared
 /// once, outside the timing (Classifier::prepare_pool: every touch's first
 /// matches): the path of the cross validation. Same distances; the
 /// registrations skip their first round of queries.
@@ -147,20 +154,13 @@ void BM_PoolDistances(benchmark::State& state) {
 /// search:1 the default, which scans these references (about 280 points)
 /// by brute force, with AVX2 where the CPU has it, search:2 the same
 /// without AVX2 (the baseline x86-64 code). The distances are identical
-/// (tests/search/test_search.cpp, tests/recognition/test_recognition.cpp).
+/// (tests/search/test_search.cpp, tests/recognition/test_pruning.cpp).
 template <typename C>
 void BM_Search(benchmark::State& state) {
-  const Scene& s = scene();
   C c;
   if (state.range(0) == 0) c.search_settings.brute_force_max_coordinates = 0;
   if (state.range(0) == 2) c.search_settings.use_avx2 = false;
-  c.fit(s.objects, s.k);
-  Eigen::VectorXd d(static_cast<Index>(s.objects.size()));
-  std::size_t i = 0;
-  for (auto _ : state) {
-    c.distances(s.tests[i++ % s.tests.size()], d);
-    benchmark::DoNotOptimize(d.data());
-  }
+  time_distances(state, c);
 }
 
 }  // namespace
