@@ -172,15 +172,26 @@ std::vector<Setting> grid() {
                  return std::unique_ptr<Classifier>(
                      std::make_unique<PrunedVote<PatchClassifier<float, Planar>>>(std::move(c), PruningSettings{}));
                }});
-  // No registration (beyond the paper): each touch's height and pad tilt.
-  auto height = [] { return std::unique_ptr<Classifier>(std::make_unique<HeightClassifier>()); };
-  s.push_back({"no registration", "height and tilt, 1 cm/rad", "sift", 50, height});
-  // Fusion (beyond the paper): heights and tilts with trimmed patch ICP, the
-  // weights chosen on the training folds (0 allowed); the time is both
-  // classifiers' distances.
-  for (const char* op : {"+", "*"})
-    s.push_back({"fusion", std::string("height") + op + "patch ICP 50%", "sift", 50, height,
-                 patch(8, 0.002, 50, 0.5f), std::string("height") + op + "patch"});
+  // No registration (beyond the paper): each touch's height and pad tilt,
+  // and with the size of its contact patch (1 m of height per m of extent).
+  auto height = [](double contact_scale) {
+    return [contact_scale] {
+      auto c = std::make_unique<HeightClassifier>();
+      c->contact_scale = contact_scale;
+      return std::unique_ptr<Classifier>(std::move(c));
+    };
+  };
+  s.push_back({"no registration", "height and tilt, 1 cm/rad", "sift", 50, height(0)});
+  s.push_back({"no registration", "height, tilt and contact extents", "sift", 50, height(1)});
+  // Fusion (beyond the paper): either with trimmed patch ICP, the weights
+  // chosen on the training folds (0 allowed); the time is both classifiers'
+  // distances.
+  for (const double contact_scale : {0.0, 1.0})
+    for (const char* op : {"+", "*"}) {
+      const std::string name = contact_scale > 0 ? "height_contact" : "height";
+      s.push_back({"fusion", name + op + "patch ICP 50%", "sift", 50, height(contact_scale), patch(8, 0.002, 50, 0.5f),
+                   name + op + "patch"});
+    }
   return s;
 }
 

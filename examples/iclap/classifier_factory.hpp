@@ -90,9 +90,10 @@ std::vector<std::unique_ptr<Classifier>> make_classifiers_for(const RecognitionO
     RecognitionOptions::split_trim_variant(label, name, trim);
     if (name == "bow" && name == label) {
       out.push_back(std::make_unique<BowClassifier>());
-    } else if (name == "height" && name == label) {
+    } else if (is_height_classifier(name) && name == label) {
       auto c = std::make_unique<HeightClassifier>();
       c->tilt_scale = o.tilt_scale;
+      if (name == "height_contact") c->contact_scale = o.contact_scale;
       out.push_back(std::move(c));
     } else if (is_registration_classifier(name)) {
       out.push_back(make_with_search<Scalar, AdaptiveSearch>(name, label, o));

@@ -56,9 +56,10 @@ const std::string kUsage = std::string(
     "                          iclap, icp+bow, icp*bow, iclap+icp, iclap*icp, iclap+bow,\n"
     "                          iclap*bow, iclap+icp+bow, iclap*icp*bow; all adds iclapn,\n"
     "                          patch, iclap_patch (contact-patch ICP, beyond the paper),\n"
-    "                          iclap_patch+patch+bow, iclap_patch*patch*bow and height\n"
+    "                          iclap_patch+patch+bow, iclap_patch*patch*bow, height\n"
     "                          (heights and tilts of the touches, no registration, beyond\n"
-    "                          the paper)).\n"
+    "                          the paper) and height_contact (height with the size of\n"
+    "                          each contact patch)).\n"
     "                          '+' sums with fitted weights, '*' products, or fixed\n"
     "                          weights such as 0.6*iclap+0.2*icp+0.2*bow\n"
     "  --repeats N             random draws per object and number of touches (default 10)\n"
@@ -98,7 +99,8 @@ std::vector<Method> parse_methods(const std::string& text) {
   std::vector<Method> out = paper_methods();
   if (text == "paper") return out;
   if (text == "all") {
-    for (const char* m : {"iclapn", "patch", "iclap_patch", "iclap_patch+patch+bow", "iclap_patch*patch*bow", "height"})
+    for (const char* m :
+         {"iclapn", "patch", "iclap_patch", "iclap_patch+patch+bow", "iclap_patch*patch*bow", "height", "height_contact"})
       out.push_back(parse_method(m));
     return out;
   }
@@ -403,6 +405,8 @@ int run_evaluate(const Args& args) {
               ro.descriptor.c_str(), static_cast<long>(ro.k), ro.transform.c_str(), ro.label_scale, ro.scalar.c_str(),
               ro.search.c_str(), ro.icp_summary(needed).c_str(), s.repeats, static_cast<unsigned long long>(s.seed), threads);
   if (std::find(needed.begin(), needed.end(), "height") != needed.end()) std::printf("height: tilt scale %g m/rad\n\n", ro.tilt_scale);
+  if (std::find(needed.begin(), needed.end(), "height_contact") != needed.end())
+    std::printf("height_contact: tilt scale %g m/rad, contact scale %g m/m\n\n", ro.tilt_scale, ro.contact_scale);
   std::fflush(stdout);
   CrossValidationResult r;
   {

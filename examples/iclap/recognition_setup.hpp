@@ -45,7 +45,8 @@ struct RecognitionOptions {
   std::uint64_t codebook_seed = 1;
   double label_scale = 0.001;        ///< metres per word step (iCLAP's 4th axis)
   double descriptor_scale = 0.01;    ///< metres per descriptor unit (iCLAP-N)
-  double tilt_scale = 0.01;          ///< metres per radian of pad tilt (height)
+  double tilt_scale = 0.01;          ///< metres per radian of pad tilt (height, height_contact)
+  double contact_scale = 1;          ///< metres per metre of contact-patch extent (height_contact)
   int max_iterations = 50;
   double relative_tolerance = 1e-6;
   /// Trimmed ICP (Chetverikov et al.): the motion and the distance use the
@@ -161,7 +162,7 @@ struct RecognitionOptions {
   /// The option names `parse` reads (value options).
   static std::set<std::string> value_options() {
     return {"descriptor", "transform", "scalar", "search", "k", "label-scale", "descriptor-scale",
-            "tilt-scale", "max-iterations", "relative-tolerance", "trim", "trim-choices", "contact-threshold", "patch-points",
+            "tilt-scale", "contact-scale", "max-iterations", "relative-tolerance", "trim", "trim-choices", "contact-threshold", "patch-points",
             "patch-voxel"};
   }
   /// Usage lines of those options.
@@ -174,7 +175,11 @@ struct RecognitionOptions {
            "  --label-scale S         metres per word step on iCLAP's label axis (default 0.001:\n"
            "                          the paper's rig gave millimetres and integer labels)\n"
            "  --descriptor-scale S    metres per descriptor unit for iclapn (default 0.01)\n"
-           "  --tilt-scale S          metres per radian of pad tilt for height (default 0.01)\n"
+           "  --tilt-scale S          metres per radian of pad tilt for height and height_contact\n"
+           "                          (default 0.01)\n"
+           "  --contact-scale S       metres per metre of contact-patch extent for height_contact\n"
+           "                          (default 1: a millimetre of patch size counts as a\n"
+           "                          millimetre of height)\n"
            "  --scalar float|double   ICP arithmetic (default float)\n"
            "  --search auto|kdtree|brute  closest-point search: auto (default) scans small\n"
            "                          references by brute force and builds kd-trees for the\n"
@@ -203,6 +208,8 @@ struct RecognitionOptions {
     if (!(descriptor_scale > 0)) throw UsageError("--descriptor-scale must be > 0");
     tilt_scale = o.number("tilt-scale", tilt_scale, 0.0);
     if (!(tilt_scale > 0)) throw UsageError("--tilt-scale must be > 0");
+    contact_scale = o.number("contact-scale", contact_scale, 0.0);
+    if (!(contact_scale > 0)) throw UsageError("--contact-scale must be > 0");
     max_iterations = static_cast<int>(o.integer("max-iterations", max_iterations, 0, 100000));
     relative_tolerance = o.number("relative-tolerance", relative_tolerance, 0.0);
     if (o.has("trim")) parse_trim(o.string("trim"));
@@ -262,7 +269,7 @@ struct RecognitionOptions {
   }
 };
 
-/// The classifiers named in `names` ("bow", "height", "icp", "iclap", "iclapn",
+/// The classifiers named in `names` ("bow", "height", "height_contact", "icp", "iclap", "iclapn",
 /// "patch", "iclap_patch"),
 /// configured by `options`. Throws UsageError for an unknown name.
 std::vector<std::unique_ptr<Classifier>> make_classifiers(const RecognitionOptions& options,
@@ -271,7 +278,7 @@ std::vector<std::unique_ptr<Classifier>> make_classifiers(const RecognitionOptio
 /// Every classifier name the commands know, in the order they are built.
 inline const std::vector<std::string>& known_classifiers() {
   static const std::vector<std::string> names = [] {
-    std::vector<std::string> n = {"bow", "height"};
+    std::vector<std::string> n = {"bow", "height", "height_contact"};
     for (const auto& r : registration_classifiers()) n.push_back(r);
     return n;
   }();
@@ -299,23 +306,29 @@ inline std::vector<std::string> needed_classifiers(const std::vector<Method>& me
   return out;
 }
 
-/// The classifiers among `needed` that read the pad orientation: height
-/// (the pad normals) and the patch classifiers (the contact points).
+/// Does classifier `name` read every touch's pad normal (height,
+/// height_contact), rather than only the contact points of oriented frames?
+inline bool is_height_classifier(const std::string& name) { return name == "height" || name == "height_contact"; }
+
+/// The classifiers among `needed` that read the pad orientation: the height
+/// classifiers (the pad normals, and height_contact the contact points) and
+/// the patch classifiers (the contact points).
 inline std::vector<std::string> orientation_classifiers(const std::vector<std::string>& needed) {
   std::vector<std::string> out;
   for (const auto& c : needed)
-    if (c == "height" || c == "patch" || c == "iclap_patch") out.push_back(c);
+    if (is_height_classifier(c) || c == "patch" || c == "iclap_patch") out.push_back(c);
   return out;
 }
 
 /// Throws InvalidArgument naming `origin` when a classifier among `needed`
-/// needs the pad orientation that the touches of `table` lack. Height needs
-/// it on every contact frame, the patch classifiers on some, or on every
-/// one with `every_frame` (live sessions carry it on every touch or none).
+/// needs the pad orientation that the touches of `table` lack. The height
+/// classifiers need it on every contact frame, the patch classifiers on
+/// some, or on every one with `every_frame` (live sessions carry it on every
+/// touch or none).
 inline void check_orientation(const std::vector<std::string>& needed, const TouchTable& table,
                               const std::string& origin, bool every_frame = false) {
   for (const auto& c : orientation_classifiers(needed)) {
-    const bool every = every_frame || c == "height";
+    const bool every = every_frame || is_height_classifier(c);
     if (!(every ? table.touches.has_normals() : table.touches.has_contacts()))
       throw InvalidArgument(origin, "the " + c + " classifier needs the pad orientation (columns qw, qx, qy, qz) of " +
                                         (every ? "every contact frame" : "the contact frames"));

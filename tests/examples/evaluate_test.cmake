@@ -98,3 +98,8 @@ run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods height,height+patch --touc
     --seed 7 --tilt-scale 0.02 --out ${WORK_DIR}/height)
 expect_match("${out}" "height: tilt scale 0.02 m/rad")
 expect_file_lines(${WORK_DIR}/height/results.csv 5 "height,5,(0(\\.[0-9]+)?|1),")  # 1 + 2 methods x 2 touch counts
+# With the size of each contact patch (height_contact); its scales are reported.
+run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods height_contact,height_contact+patch --touches 1,5 --repeats 3
+    --weight-repeats 1 --seed 7 --contact-scale 0.5 --out ${WORK_DIR}/height_contact)
+expect_match("${out}" "height_contact: tilt scale 0.01 m/rad, contact scale 0.5 m/m")
+expect_file_lines(${WORK_DIR}/height_contact/results.csv 5 "height_contact\\+patch,5,(0(\\.[0-9]+)?|1),")

@@ -3,6 +3,8 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "iclap/core/random.hpp"
 #include "iclap/recognition/recognition.hpp"
@@ -162,4 +164,179 @@ TEST_CASE("the height classifier names what it is missing") {
   CHECK_THROWS_WITH_AS(height.fit({good}, 0), "tilt_scale: must be finite and > 0, got 0.000000", InvalidArgument);
   height.tilt_scale = std::nan("");
   CHECK_THROWS_AS(height.fit({good}, 0), InvalidArgument);
+}
+
+namespace {
+
+/// `touches` with contact points: touch i gets `patches[i]`.
+TouchSet with_contacts(TouchSet s, const std::vector<Eigen::Matrix3Xd>& patches) {
+  s.contact_offsets = {0};
+  Index total = 0;
+  for (const auto& p : patches) total += p.cols();
+  s.contact_points.resize(3, total);
+  Index k = 0;
+  for (const auto& p : patches) {
+    s.contact_points.middleCols(k, p.cols()) = p;
+    k += p.cols();
+    s.contact_offsets.push_back(k);
+  }
+  return s;
+}
+
+/// A flat grid of nx x ny points at `pitch` around `centre`, in the plane
+/// spanned by `u` and `v`.
+Eigen::Matrix3Xd grid(int nx, int ny, double pitch, const Eigen::Vector3d& centre, const Eigen::Vector3d& u,
+                      const Eigen::Vector3d& v) {
+  Eigen::Matrix3Xd p(3, nx * ny);
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j)
+      p.col(i * ny + j) = centre + pitch * ((i - 0.5 * (nx - 1)) * u + (j - 0.5 * (ny - 1)) * v);
+  return p;
+}
+
+/// Standard deviation of n points at unit spacing, centred: sqrt((n^2 - 1) / 12).
+double grid_sd(int n, double pitch) { return pitch * std::sqrt((n * n - 1) / 12.0); }
+
+}  // namespace
+
+TEST_CASE("contact_extents: the patch's principal standard deviations, largest first, whatever its pose") {
+  const double pitch = 0.0034;
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY();
+  // A 6 x 3 patch lying flat: length along x, width along y.
+  const Eigen::Vector2d flat = contact_extents(grid(6, 3, pitch, Eigen::Vector3d(0.1, 0.2, 0.03), x, y));
+  CHECK(flat(0) == doctest::Approx(grid_sd(6, pitch)).epsilon(1e-12));
+  CHECK(flat(1) == doctest::Approx(grid_sd(3, pitch)).epsilon(1e-12));
+  // The same patch turned about every axis and moved: the same extents.
+  const Eigen::Matrix3d r = (Eigen::AngleAxisd(0.9, Eigen::Vector3d(1, 2, 3).normalized())).toRotationMatrix();
+  const Eigen::Vector2d turned = contact_extents(grid(6, 3, pitch, Eigen::Vector3d(-5, 7, 2), r * x, r * y));
+  CHECK((turned - flat).norm() < 1e-12);
+  // A line of taxels along an edge: no width. One point, or none: no patch.
+  const Eigen::Vector2d line = contact_extents(grid(1, 5, pitch, Eigen::Vector3d::Zero(), x, y));
+  CHECK(line(0) == doctest::Approx(grid_sd(5, pitch)).epsilon(1e-12));
+  CHECK(line(1) < 1e-12);
+  CHECK(contact_extents(Eigen::Matrix3Xd::Constant(3, 1, 0.4)) == Eigen::Vector2d::Zero());
+  CHECK(contact_extents(Eigen::Matrix3Xd(3, 0)) == Eigen::Vector2d::Zero());
+  // Far from the origin (1 km) a millimetre patch keeps its size.
+  const Eigen::Vector2d far = contact_extents(grid(6, 3, pitch, Eigen::Vector3d(1000, -1000, 0.03), x, y));
+  CHECK(far(0) == doctest::Approx(flat(0)).epsilon(1e-6));
+  CHECK(far(1) == doctest::Approx(flat(1)).epsilon(1e-6));
+}
+
+TEST_CASE("height_contact: heights, tilts and contact extents; without the patch, the height classifier exactly") {
+  const double pitch = 0.0034, c = 0.5, s = 0.01;
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY();
+  // Both objects are touched on a top face at 20 mm; object 0 is a broad
+  // face (6 x 6 taxels pressed), object 1 a thin handle (6 x 1).
+  const TouchSet broad = with_contacts(touches({{0.0, 0.0, 0.020}}, {normal(0, 0)}),
+                                       {grid(6, 6, pitch, Eigen::Vector3d(0, 0, 0.020), x, y)});
+  const TouchSet thin = with_contacts(touches({{0.2, 0.0, 0.020}}, {normal(0, 0)}),
+                                      {grid(6, 1, pitch, Eigen::Vector3d(0.2, 0, 0.020), x, y)});
+  // The test: a thin contact at 21 mm, elsewhere on the table and turned.
+  const Eigen::Vector3d u = Eigen::Vector3d(1, 1, 0).normalized(), v = Eigen::Vector3d(-1, 1, 0).normalized();
+  const TouchSet test = with_contacts(touches({{0.5, 0.4, 0.021}}, {normal(0, 0)}),
+                                      {grid(6, 1, pitch, Eigen::Vector3d(0.5, 0.4, 0.021), u, v)});
+
+  HeightClassifier plain;
+  plain.fit({broad, thin}, 0);
+  Eigen::VectorXd d_plain(2);
+  plain.distances(test, d_plain);
+  CHECK(plain.name() == "height");
+  CHECK(d_plain(0) == doctest::Approx(1e-6).epsilon(1e-9));  // only the 1 mm of height
+  CHECK(d_plain(1) == doctest::Approx(1e-6).epsilon(1e-9));
+
+  HeightClassifier contact;
+  contact.contact_scale = c;
+  CHECK(contact.name() == "height_contact");
+  contact.fit({broad, thin}, 0);
+  Eigen::VectorXd d(2);
+  contact.distances(test, d);
+  const double width = grid_sd(6, pitch);  // the broad face's second extent; the thin one has none
+  CHECK(d(0) == doctest::Approx(1e-6 + c * c * width * width).epsilon(1e-9));
+  CHECK(d(1) == doctest::Approx(1e-6).epsilon(1e-9));
+  CHECK(decide(d) == 1);
+
+  // With contact_scale 0 the contact points change nothing, to the last bit,
+  // and match the two-coordinate sum computed here.
+  TouchSet other = test;
+  other.contact_points *= 3.0;
+  Eigen::VectorXd d_other(2);
+  plain.distances(other, d_other);
+  CHECK(d_other(0) == d_plain(0));
+  CHECK(d_other(1) == d_plain(1));
+  const double dz = 0.021 - 0.020, dt = s * 0.0;
+  CHECK(d_plain(0) == dz * dz + dt * dt);
+
+  contact.label = "mine";
+  CHECK(contact.name() == "mine");
+}
+
+TEST_CASE("height_contact distances do not change under a planar motion of the test") {
+  Rng rng(5);
+  const double pitch = 0.0034;
+  std::vector<TouchSet> objects;
+  for (int o = 0; o < 3; ++o) {
+    std::vector<Eigen::Vector3d> p, n;
+    std::vector<Eigen::Matrix3Xd> patches;
+    for (int i = 0; i < 20; ++i) {
+      p.emplace_back(rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1), 0.01 + rng.uniform(0, 0.004));
+      n.push_back(normal(rng.uniform(0, 0.5), rng.uniform(-kPi, kPi)));
+      const Eigen::Matrix3d pad = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d(0, 0, -1), n.back()).toRotationMatrix();
+      patches.push_back(grid(2 + (o + i) % 5, 1 + o, pitch, p.back(), pad.col(0), pad.col(1)));
+    }
+    objects.push_back(with_contacts(touches(p, n), patches));
+  }
+  HeightClassifier contact;
+  contact.contact_scale = 1;
+  contact.fit(objects, 0);
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(-1.1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  for (Index o = 0; o < 3; ++o) {
+    const TouchSet test = select_touches(objects[static_cast<std::size_t>(o)], std::vector<Index>{1, 4, 9});
+    Eigen::VectorXd d(3), moved_d(3);
+    contact.distances(test, d);
+    CHECK(d(o) == 0.0);
+    TouchSet moved = test;
+    const Eigen::Vector3d shift(0.3, 0.2, 0.0);
+    moved.positions = (turn * test.positions).colwise() + shift;
+    moved.normals = turn * test.normals;
+    moved.contact_points = (turn * test.contact_points).colwise() + shift;
+    contact.distances(moved, moved_d);
+    CHECK((moved_d - d).cwiseAbs().maxCoeff() < 1e-12);
+    // Dropping the touches' contact points is refused, not read as patches of size 0.
+    moved.contact_points.resize(3, 0);
+    moved.contact_offsets.clear();
+    CHECK_THROWS_WITH_AS(contact.distances(moved, moved_d),
+                         "test.contact_points: the height_contact classifier needs the contact points of the touches "
+                         "(the pressed taxels placed by the pad orientation)",
+                         EmptyInput);
+  }
+}
+
+TEST_CASE("height_contact names bad settings and what it is missing") {
+  HeightClassifier contact;
+  contact.contact_scale = -0.5;
+  const TouchSet good = with_contacts(touches({Eigen::Vector3d::Zero()}, {normal(0, 0)}), {Eigen::Matrix3Xd::Zero(3, 2)});
+  CHECK_THROWS_WITH_AS(contact.fit({good}, 0), "contact_scale: must be finite and >= 0, got -0.500000", InvalidArgument);
+  contact.contact_scale = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_AS(contact.fit({good}, 0), InvalidArgument);
+  contact.contact_scale = 1;
+  TouchSet bare = good;
+  bare.contact_points.resize(3, 0);
+  bare.contact_offsets.clear();
+  CHECK_THROWS_WITH_AS(contact.fit({good, bare}, 0),
+                       "objects[1].contact_points: the height_contact classifier needs the contact points of the "
+                       "touches (the pressed taxels placed by the pad orientation)",
+                       EmptyInput);
+  TouchSet unoriented = good;
+  unoriented.normals.resize(3, 0);
+  CHECK_THROWS_WITH_AS(contact.fit({unoriented}, 0),
+                       "objects[0].normals: the height_contact classifier needs the pad orientation of every touch "
+                       "(dataset columns qw, qx, qy, qz)",
+                       EmptyInput);
+  // A touch with no contact point among others that have some: extents (0, 0).
+  TouchSet mixed = with_contacts(touches({Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()}, {normal(0, 0), normal(0, 0)}),
+                                 {Eigen::Matrix3Xd(3, 0), grid(3, 3, 0.01, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(),
+                                                               Eigen::Vector3d::UnitY())});
+  contact.fit({mixed}, 0);
+  CHECK(contact.embed(mixed, "m").col(0).tail<2>() == Eigen::Vector2d::Zero());
+  CHECK(contact.embed(mixed, "m")(2, 1) == doctest::Approx(grid_sd(3, 0.01)).epsilon(1e-12));
 }

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 
 #include "iclap/core/error.hpp"
 #include "iclap/recognition/classifier.hpp"
@@ -23,6 +25,23 @@ inline Eigen::Vector2d height_and_tilt(const Eigen::Vector3d& position, const Ei
   return {position.z(), std::atan2(normal.head<2>().norm(), -normal.z())};
 }
 
+/// The size of a touch's contact patch (beyond the paper): the standard
+/// deviations of `points` (metres) along their two principal axes, largest
+/// first; (0, 0) for fewer than two points. The contact points of a touch
+/// are the pressed taxels placed by the pad's pose (TouchSet), so they lie in
+/// the pad plane and the two axes are the patch's length and width: a full
+/// flat contact, a line along an edge or a thin handle, a partial patch where
+/// the pad overhangs. Any rigid motion of the points leaves them unchanged.
+inline Eigen::Vector2d contact_extents(const Eigen::Ref<const Eigen::Matrix3Xd>& points) {
+  if (points.cols() < 2) return Eigen::Vector2d::Zero();
+  const Eigen::Vector3d mean = points.rowwise().mean();
+  const Eigen::Matrix3Xd centred = points.colwise() - mean;
+  const Eigen::Matrix3d covariance = centred * centred.transpose() / static_cast<double>(points.cols());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance, Eigen::EigenvaluesOnly);
+  const Eigen::Vector3d& v = eigen.eigenvalues();  // ascending
+  return {std::sqrt(std::max(0.0, v(2))), std::sqrt(std::max(0.0, v(1)))};
+}
+
 /// Registration-free kinesthetic recognition (beyond the paper): each touch
 /// is the point (z, s theta) of its pose invariants (`height_and_tilt`, s =
 /// `tilt_scale` metres per radian), and the distance from a test set to an
@@ -38,71 +57,115 @@ inline Eigen::Vector2d height_and_tilt(const Eigen::Vector3d& position, const Ei
 /// references never saw still lands at heights and tilts they did see. It
 /// cannot tell apart objects with the same heights and slopes, and it
 /// assumes the planar scene (the table plane fixed in the rig frame between
-/// training and test). Each object's invariants sit in a 2-D search
-/// structure (AdaptiveSearch: brute force up to 1024 touches, a kd-tree
-/// above) built once per fit, so a distance costs one nearest-point query
+/// training and test). Each object's invariants sit in a search structure
+/// (AdaptiveSearch: brute force up to 512 touches, a kd-tree above) built
+/// once per fit, so a distance costs one nearest-point query
 /// per test touch and object.
 ///
+/// With `contact_scale` c > 0 each touch also carries the size of its
+/// contact patch, (l_1, l_2) = `contact_extents` of its contact points, which
+/// no motion of the object changes either; the point is then
+/// (z, s theta, c l_1, c l_2), and the distance
+///
+///   E_height_contact = sum_i min_q [ (z_i - z_q)^2 + s^2 (theta_i - theta_q)^2
+///                                    + c^2 ((l1_i - l1_q)^2 + (l2_i - l2_q)^2) ]
+///
+/// tells a thin handle from a broad face at the same height and slope, and
+/// a pad overhanging a small face from one resting on a large face. With
+/// c = 1 a millimetre of patch size counts as much as a millimetre of
+/// height. c = 0 (the default) leaves the contact patch out, and the
+/// distances are those of the two-coordinate form to the last bit.
+///
 /// Needs `TouchSet::normals` (the pad orientation of every touch: dataset
-/// columns qw..qz).
+/// columns qw..qz), and with c > 0 `TouchSet::contact_points` (a touch
+/// without contact points has extents (0, 0)).
 class HeightClassifier final : public Classifier {
  public:
   /// Metres of height that one radian of tilt weighs (1 cm by default, the
   /// library's convention for a unit of a non-spatial axis, as
   /// `DescriptorEmbedding::descriptor_scale`).
   double tilt_scale = 0.01;
+  /// Metres of height that one metre of contact-patch extent weighs; 0 (the
+  /// default): the contact patch is not used.
+  double contact_scale = 0;
+  /// The classifier's name in a Recognizer; empty (the default): "height",
+  /// or "height_contact" with contact_scale > 0.
+  std::string label;
 
-  std::string name() const override { return "height"; }
+  std::string name() const override {
+    if (!label.empty()) return label;
+    return contact_scale > 0 ? "height_contact" : "height";
+  }
 
-  /// Throws InvalidArgument for a `tilt_scale` that is not finite and > 0,
-  /// EmptyInput naming "objects" or "objects[j].normals" for no object or an
-  /// object without normals, and what TouchSet::validate throws.
+  /// Throws InvalidArgument for a `tilt_scale` that is not finite and > 0 or
+  /// a `contact_scale` that is not finite and >= 0, EmptyInput naming
+  /// "objects", "objects[j].normals" or "objects[j].contact_points" for no
+  /// object or an object without what the classifier needs, and what
+  /// TouchSet::validate throws.
   void fit(const std::vector<TouchSet>& objects, Index /*vocabulary*/) override {
     validate();
     if (objects.empty()) throw EmptyInput("objects", "no object to recognise");
-    std::vector<AdaptiveSearch<double, 2>> trees;
-    trees.reserve(objects.size());
+    std::vector<Search> searches;
+    searches.reserve(objects.size());
     for (std::size_t j = 0; j < objects.size(); ++j) {
       const std::string name = "objects[" + std::to_string(j) + "]";
-      trees.emplace_back(embed(objects[j], name));
+      searches.emplace_back(embed(objects[j], name));
     }
-    trees_ = std::move(trees);
+    searches_ = std::move(searches);
   }
 
-  /// Throws EmptyInput naming "test.normals" for a test without normals.
+  /// Throws EmptyInput naming "test.normals" (or "test.contact_points") for a
+  /// test without what the classifier needs.
   void distances(const TouchSet& test, Eigen::Ref<Eigen::VectorXd> out) const override {
     check_dimension(out.size(), objects(), "out");
-    const Eigen::Matrix2Xd p = embed(test, "test");
-    for (std::size_t j = 0; j < trees_.size(); ++j) {
+    const Points p = embed(test, "test");
+    for (std::size_t j = 0; j < searches_.size(); ++j) {
       double e = 0;
-      for (Index i = 0; i < p.cols(); ++i) e += trees_[j].nearest(p.col(i).data()).squared_distance;
+      for (Index i = 0; i < p.cols(); ++i) e += searches_[j].nearest(p.col(i).data()).squared_distance;
       out(static_cast<Index>(j)) = e;
     }
   }
 
-  Index objects() const override { return static_cast<Index>(trees_.size()); }
+  Index objects() const override { return static_cast<Index>(searches_.size()); }
 
   void validate() const {
     if (!(tilt_scale > 0) || !std::isfinite(tilt_scale))
       throw InvalidArgument("tilt_scale", "must be finite and > 0, got " + std::to_string(tilt_scale));
+    if (!(contact_scale >= 0) || !std::isfinite(contact_scale))
+      throw InvalidArgument("contact_scale", "must be finite and >= 0, got " + std::to_string(contact_scale));
   }
 
-  /// The points (z, s theta) of `touches`, one column per touch.
-  Eigen::Matrix2Xd embed(const TouchSet& touches, const std::string& argument) const {
+  /// The points (z, s theta, c l_1, c l_2) of `touches`, one column per
+  /// touch; the last two rows are 0 when contact_scale is 0.
+  Eigen::Matrix4Xd embed(const TouchSet& touches, const std::string& argument) const {
     touches.validate(argument);
     if (!touches.has_normals())
-      throw EmptyInput(argument + ".normals",
-                       "the height classifier needs the pad orientation of every touch (dataset columns qw, qx, qy, qz)");
-    Eigen::Matrix2Xd p(2, touches.size());
+      throw EmptyInput(argument + ".normals", "the " + name() +
+                                                  " classifier needs the pad orientation of every touch (dataset "
+                                                  "columns qw, qx, qy, qz)");
+    const bool contacts = contact_scale > 0;
+    if (contacts && !touches.has_contacts())
+      throw EmptyInput(argument + ".contact_points",
+                       "the " + name() + " classifier needs the contact points of the touches (the pressed taxels "
+                                         "placed by the pad orientation)");
+    Points p = Points::Zero(4, touches.size());
     for (Index i = 0; i < touches.size(); ++i) {
-      p.col(i) = height_and_tilt(touches.positions.col(i), touches.normals.col(i));
+      p.col(i).head<2>() = height_and_tilt(touches.positions.col(i), touches.normals.col(i));
       p(1, i) *= tilt_scale;
+      if (contacts) {
+        const Index begin = touches.contact_offsets[static_cast<std::size_t>(i)];
+        p.col(i).tail<2>() = contact_scale * contact_extents(touches.contact_points.middleCols(begin, touches.contacts_of(i)));
+      }
     }
     return p;
   }
 
  private:
-  std::vector<AdaptiveSearch<double, 2>> trees_;  // brute force for a few hundred touches, a kd-tree above
+  using Points = Eigen::Matrix4Xd;
+  // Brute force up to 512 touches per object, a kd-tree above. Without the
+  // contact patch the last two coordinates are 0 and add exactly nothing.
+  using Search = AdaptiveSearch<double, 4>;
+  std::vector<Search> searches_;
 };
 
 }  // namespace iclap
