@@ -82,6 +82,7 @@ struct LabelBox {
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< extent
   double x = 0, y = 0;                    ///< text anchor point (baseline)
   bool anchor_end = false;                ///< text to the left of the point (text-anchor="end")
+  bool leader = false;                    ///< placed away from its point: draw a line to it
 };
 
 /// A conservative width of `text` in a sans-serif font of size `font`
@@ -95,43 +96,52 @@ inline bool overlaps(const LabelBox& a, const LabelBox& b) {
 /// Places labels next to their points (px, py) inside the plot area
 /// [left, right] x [top, bottom], in order: right of the point, or left of
 /// it where the text would cross the right edge; at the first vertical
-/// offset (just above the point, just below, then further away alternately)
-/// where the box stays inside the area and overlaps no label placed before.
-/// A label with no free place within 6 lines keeps the place just above its
-/// point.
+/// offset (just above the point, just below, then further away alternately,
+/// up to the height of the area) where the box stays inside the area and
+/// overlaps no label placed before, trying at each offset first that side
+/// and then the other side of the point, where the text fits. A label
+/// placed more than a line away from its point gets `leader` set (draw a
+/// line to it). A label with no free place at all keeps the place just
+/// above its point.
 inline std::vector<LabelBox> place_labels(const std::vector<double>& px, const std::vector<double>& py,
                                           const std::vector<std::string>& text, double font, double left,
                                           double right, double top, double bottom) {
   std::vector<LabelBox> placed;
   const double gap = 5, line = font + 2;
+  const int reach = static_cast<int>(std::ceil((bottom - top) / line));
   for (std::size_t i = 0; i < text.size(); ++i) {
     const double w = label_width(text[i], font);
-    LabelBox b;
-    b.anchor_end = px[i] + gap + w > right && px[i] - gap - w >= left;
-    b.x = b.anchor_end ? px[i] - gap : px[i] + gap;
-    b.x0 = b.anchor_end ? b.x - w : b.x;
-    b.x1 = b.anchor_end ? b.x : b.x + w;
-    auto at = [&](double baseline) {
-      LabelBox c = b;
+    const bool fits_right = px[i] + gap + w <= right, fits_left = px[i] - gap - w >= left;
+    const bool prefer_end = !fits_right && fits_left;
+    auto at = [&](bool anchor_end, double baseline) {
+      LabelBox c;
+      c.anchor_end = anchor_end;
+      c.x = anchor_end ? px[i] - gap : px[i] + gap;
+      c.x0 = anchor_end ? c.x - w : c.x;
+      c.x1 = anchor_end ? c.x : c.x + w;
       c.y = baseline;
       c.y0 = baseline - font;
       c.y1 = baseline + 2;
       return c;
     };
-    LabelBox chosen = at(py[i] - gap);
-    for (int k = 0; k < 6; ++k) {
+    LabelBox chosen = at(prefer_end, py[i] - gap);
+    bool found = false;
+    for (int k = 0; k < reach && !found; ++k) {
       const double offsets[2] = {py[i] - gap - k * line, py[i] + gap + font + k * line};
-      bool found = false;
-      for (double baseline : offsets) {
-        const LabelBox c = at(baseline);
-        if (c.y0 < top || c.y1 > bottom) continue;
-        if (std::none_of(placed.begin(), placed.end(), [&](const LabelBox& o) { return overlaps(c, o); })) {
-          chosen = c;
-          found = true;
-          break;
+      for (const bool anchor_end : {prefer_end, !prefer_end}) {
+        if (anchor_end != prefer_end && !(anchor_end ? fits_left : fits_right)) continue;
+        for (double baseline : offsets) {
+          const LabelBox c = at(anchor_end, baseline);
+          if (c.y0 < top || c.y1 > bottom) continue;
+          if (std::none_of(placed.begin(), placed.end(), [&](const LabelBox& o) { return overlaps(c, o); })) {
+            chosen = c;
+            chosen.leader = k > 0;
+            found = true;
+            break;
+          }
         }
+        if (found) break;
       }
-      if (found) break;
     }
     placed.push_back(chosen);
   }
@@ -240,10 +250,16 @@ inline std::string render_svg(const Plot& p) {
   }
   const std::vector<detail::LabelBox> boxes =
       detail::place_labels(label_x, label_y, labels, 9, left, left + pw, top, top + ph);
-  for (std::size_t i = 0; i < boxes.size(); ++i)
-    s += "<text x=\"" + fmt("%.1f", boxes[i].x) + "\" y=\"" + fmt("%.1f", boxes[i].y) + "\"" +
-         (boxes[i].anchor_end ? " text-anchor=\"end\"" : "") + " font-size=\"9\" fill=\"#444\">" +
-         escape_xml(labels[i]) + "</text>\n";
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    const detail::LabelBox& b = boxes[i];
+    if (b.leader)  // from the point to the middle of the box's near edge
+      s += "<line x1=\"" + fmt("%.1f", label_x[i]) + "\" y1=\"" + fmt("%.1f", label_y[i]) + "\" x2=\"" +
+           fmt("%.1f", b.anchor_end ? b.x1 : b.x0) + "\" y2=\"" + fmt("%.1f", 0.5 * (b.y0 + b.y1)) +
+           "\" stroke=\"#999\" stroke-width=\"0.6\"/>\n";
+    s += "<text x=\"" + fmt("%.1f", b.x) + "\" y=\"" + fmt("%.1f", b.y) + "\"" +
+         (b.anchor_end ? " text-anchor=\"end\"" : "") + " font-size=\"9\" fill=\"#444\">" + escape_xml(labels[i]) +
+         "</text>\n";
+  }
   s += "</svg>\n";
   return s;
 }

@@ -4,6 +4,7 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -58,16 +59,75 @@ TEST_CASE("point labels: crowded points get separate boxes inside the plot area"
   CHECK(boxes[4].y1 <= py[4]);
 }
 
+TEST_CASE("point labels: a crowd beyond six lines still gets separate boxes, the far ones with leader lines") {
+  using iclap::cli::detail::LabelBox;
+  using iclap::cli::detail::overlaps;
+  using iclap::cli::detail::place_labels;
+  // Thirty labels on one point (the trade study's fused rows end up a few
+  // pixels apart at the top of the front): more than the 24 places within
+  // six lines above and below, on both sides.
+  const double left = 0, right = 600, top = 0, bottom = 400, font = 9;
+  const std::vector<double> px(30, 300.0), py(30, 200.0);
+  std::vector<std::string> text;
+  for (int i = 0; i < 30; ++i) text.push_back("setting number " + std::to_string(i));
+  const std::vector<LabelBox> boxes = place_labels(px, py, text, font, left, right, top, bottom);
+  REQUIRE(boxes.size() == text.size());
+  int leaders = 0;
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    CAPTURE(i);
+    CHECK(boxes[i].y0 >= top);
+    CHECK(boxes[i].y1 <= bottom);
+    for (std::size_t j = 0; j < i; ++j) {
+      CAPTURE(j);
+      CHECK_FALSE(overlaps(boxes[i], boxes[j]));
+    }
+    // A label without a leader is at most a line from its point.
+    if (!boxes[i].leader) CHECK(std::abs(boxes[i].y - py[i]) <= 5 + font + 1e-9);
+    leaders += boxes[i].leader ? 1 : 0;
+  }
+  // The first four take the places just above and below the point, on
+  // both sides; the rest are further away and say so.
+  CHECK(leaders == 26);
+  CHECK_FALSE(boxes[0].anchor_end);
+  CHECK(boxes[2].anchor_end);
+
+  // Rendered: one leader line per label placed away from its point.
+  iclap::cli::Plot p;
+  iclap::cli::PlotSeries crowd;
+  crowd.name = "crowd";
+  crowd.markers_only = true;
+  for (int i = 0; i < 30; ++i) {
+    crowd.x.push_back(1.0);
+    crowd.y.push_back(0.5);
+    crowd.point_labels.push_back(text[static_cast<std::size_t>(i)]);
+  }
+  iclap::cli::PlotSeries range;
+  range.name = "range";
+  range.x = {0.0, 2.0};
+  range.y = {0.0, 1.0};
+  p.series = {crowd, range};
+  const std::string svg = iclap::cli::render_svg(p);
+  CHECK(count(svg, "stroke=\"#999\" stroke-width=\"0.6\"") == 26);
+  CHECK(count(svg, ">setting number ") == 30);
+}
+
 TEST_CASE("point labels: a label with no free place keeps the place above its point") {
   using iclap::cli::detail::overlaps;
   using iclap::cli::detail::place_labels;
-  // An area 20 units high: the first label fits above its point, the second
-  // (same point) fits neither above, below, nor further away.
-  const auto boxes = place_labels({100, 100}, {15, 15}, {"first", "second"}, 9, 0, 400, 0, 20);
+  // An area 20 units high that starts 10 units left of the point: the first
+  // label fits above its point, the second (same point) fits neither above,
+  // below, nor further away, and not on the left side either.
+  const auto boxes = place_labels({100, 100}, {15, 15}, {"first", "second"}, 9, 90, 400, 0, 20);
   REQUIRE(boxes.size() == 2);
   CHECK(boxes[0].y == doctest::Approx(10));
   CHECK(boxes[1].y == doctest::Approx(10));
   CHECK(overlaps(boxes[0], boxes[1]));
+  CHECK_FALSE(boxes[1].leader);
+  // With room on the left, the second label goes there instead.
+  const auto wider = place_labels({100, 100}, {15, 15}, {"first", "second"}, 9, 0, 400, 0, 20);
+  CHECK_FALSE(overlaps(wider[0], wider[1]));
+  CHECK(wider[1].anchor_end);
+  CHECK(wider[1].y == doctest::Approx(10));
 }
 
 TEST_CASE("render_svg: scatter labels and legend") {
