@@ -188,7 +188,7 @@ std::vector<Setting> grid() {
   // distances.
   for (const double contact_scale : {0.0, 1.0})
     for (const char* op : {"+", "*"}) {
-      const std::string name = contact_scale > 0 ? "height_contact" : "height";
+      const std::string name = height(contact_scale)()->name();  // the classifier's own name
       s.push_back({"fusion", name + op + "patch ICP 50%", "sift", 50, height(contact_scale), patch(8, 0.002, 50, 0.5f),
                    name + op + "patch"});
     }

@@ -2,7 +2,9 @@
 //
 // `iclap register MODEL TEST`: N-D ICP of two point files.
 
+#include <cstddef>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 #include "cli.hpp"
@@ -28,7 +30,9 @@ const char* const kUsage =
     "                       all coordinates, the paper's iCLAP; spatial: x,y,z only;\n"
     "                       planar: rotation about z + x,y shift; translation: x,y,z shift)\n"
     "  --scalar float|double   arithmetic precision (default double)\n"
-    "  --search kdtree|brute   closest-point search (default kdtree)\n"
+    "  --search auto|kdtree|brute  closest-point search: auto (default) scans clouds of\n"
+    "                       up to 2048 coordinates by brute force and builds a kd-tree\n"
+    "                       for larger ones; the result is the same, only the time differs\n"
     "  --max-iterations N      iteration cap (default 50)\n"
     "  --tolerance E           stop when the error E <= E (default 0: exact fit only)\n"
     "  --relative-tolerance R  stop when the relative change of E < R (default 1e-6)\n"
@@ -64,13 +68,17 @@ void print_json_matrix(const Matrix& m, bool is_float) {
   std::printf("]");
 }
 
-template <typename Scalar, int Dim, typename Model, typename Search>
+template <typename Scalar, int Dim, typename Model>
 int run_typed(const Request& q) {
   using namespace iclap;
   const Eigen::Index d = q.model.rows();
   Point<Scalar, Dim> w = Point<Scalar, Dim>::Ones(d);
   for (Eigen::Index k = 0; k < d && !q.weights.empty(); ++k) w(k) = static_cast<Scalar>(q.weights[static_cast<std::size_t>(k)]);
-  const ReferenceCloud<Scalar, Dim, Search> reference(q.model.cast<Scalar>(), w);
+  // One search type; --search kdtree and brute are its settings.
+  typename AdaptiveSearch<Scalar, Dim>::Settings search;
+  if (q.search == "kdtree") search.brute_force_max_coordinates = 0;
+  if (q.search == "brute") search.brute_force_max_coordinates = std::numeric_limits<std::size_t>::max();
+  const ReferenceCloud<Scalar, Dim> reference(q.model.cast<Scalar>(), w, search);
   Icp<Scalar, Dim, Model> icp;
   icp.termination.max_iterations = q.max_iterations;
   icp.termination.absolute_tolerance = static_cast<Scalar>(q.tolerance);
@@ -122,18 +130,12 @@ int run_typed(const Request& q) {
   return iclap::cli::kExitOk;
 }
 
-template <typename Scalar, int Dim, typename Model>
-int with_search(const Request& q) {
-  if (q.search == "brute") return run_typed<Scalar, Dim, Model, iclap::BruteForceSearch<Scalar, Dim>>(q);
-  return run_typed<Scalar, Dim, Model, iclap::KdTreeSearch<Scalar, Dim>>(q);
-}
-
 template <typename Scalar, typename Model>
 int with_dim(const Request& q) {
   // 3-D (the kinesthetic case) gets a compile-time dimension; any other
   // dimension, 4-D iCLAP points included, runs with Eigen::Dynamic.
-  if (q.model.rows() == 3) return with_search<Scalar, 3, Model>(q);
-  return with_search<Scalar, Eigen::Dynamic, Model>(q);
+  if (q.model.rows() == 3) return run_typed<Scalar, 3, Model>(q);
+  return run_typed<Scalar, Eigen::Dynamic, Model>(q);
 }
 
 template <typename Scalar>
@@ -155,7 +157,7 @@ int run_register(const iclap::cli::Args& args) {
   q.test_path = opt.positional()[1];
   q.transform = opt.choice("transform", {"full", "spatial", "planar", "translation"}, "full");
   q.scalar = opt.choice("scalar", {"float", "double"}, "double");
-  q.search = opt.choice("search", {"kdtree", "brute"}, "kdtree");
+  q.search = opt.choice("search", {"auto", "kdtree", "brute"}, "auto");
   q.max_iterations = static_cast<int>(opt.integer("max-iterations", 50, 0, 1000000));
   q.tolerance = opt.number("tolerance", 0.0);
   q.relative_tolerance = opt.number("relative-tolerance", 1e-6, 0.0);

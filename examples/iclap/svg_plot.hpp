@@ -124,26 +124,25 @@ inline std::vector<LabelBox> place_labels(const std::vector<double>& px, const s
       c.y1 = baseline + 2;
       return c;
     };
-    LabelBox chosen = at(prefer_end, py[i] - gap);
-    bool found = false;
-    for (int k = 0; k < reach && !found; ++k) {
-      const double offsets[2] = {py[i] - gap - k * line, py[i] + gap + font + k * line};
-      for (const bool anchor_end : {prefer_end, !prefer_end}) {
-        if (anchor_end != prefer_end && !(anchor_end ? fits_left : fits_right)) continue;
-        for (double baseline : offsets) {
-          const LabelBox c = at(anchor_end, baseline);
-          if (c.y0 < top || c.y1 > bottom) continue;
-          if (std::none_of(placed.begin(), placed.end(), [&](const LabelBox& o) { return overlaps(c, o); })) {
-            chosen = c;
-            chosen.leader = k > 0;
-            found = true;
-            break;
+    // The first free box, in the order above; none: the place just above.
+    auto first_free = [&]() -> LabelBox {
+      for (int k = 0; k < reach; ++k) {
+        const double offsets[2] = {py[i] - gap - k * line, py[i] + gap + font + k * line};
+        for (const bool anchor_end : {prefer_end, !prefer_end}) {
+          if (anchor_end != prefer_end && !(anchor_end ? fits_left : fits_right)) continue;
+          for (double baseline : offsets) {
+            LabelBox c = at(anchor_end, baseline);
+            if (c.y0 < top || c.y1 > bottom) continue;
+            if (std::none_of(placed.begin(), placed.end(), [&](const LabelBox& o) { return overlaps(c, o); })) {
+              c.leader = k > 0;
+              return c;
+            }
           }
         }
-        if (found) break;
       }
-    }
-    placed.push_back(chosen);
+      return at(prefer_end, py[i] - gap);
+    };
+    placed.push_back(first_free());
   }
   return placed;
 }

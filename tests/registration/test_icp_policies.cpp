@@ -402,7 +402,7 @@ TEST_CASE("a fixed point of the matching ends the search, not the iteration coun
   CHECK(capped.T_model_test.t == converged.T_model_test.t);
   // And the kd-tree, which uses its own warm-started queries, agrees.
   icp.termination = {};
-  const auto tree = icp.align(ReferenceCloud<double, 3>(model), test);
+  const auto tree = icp.align(ReferenceCloud<double, 3, KdTreeSearch<double, 3>>(model), test);
   CHECK(tree.iterations == converged.iterations);
   CHECK(tree.error == converged.error);
   CHECK(tree.T_model_test.R == converged.T_model_test.R);
@@ -532,4 +532,29 @@ TEST_CASE("first matches that do not belong to the registration are refused") {
   icp.centroid_alignment = true;
   CHECK(argument_of([&] { icp.first_matches(ref, test, nullptr, ws, mine); }) == "centroid_alignment");
   CHECK(argument_of([&] { icp.align(ref, test, nullptr, ws, mine); }) == "centroid_alignment");
+}
+
+TEST_CASE("the default search scans small references, builds trees for large ones, and registers alike") {
+  Icp<double, 3, Planar> icp;
+  for (Index n : {100, 2000}) {  // 300 and 6000 coordinates, either side of 2048
+    CAPTURE(n);
+    const Eigen::MatrixXd model = random_points(3, n, 91);
+    Eigen::VectorXd t;
+    const Eigen::MatrixXd R = random_motion<Planar>(3, 0.15, 0.05, 92, t);
+    const Eigen::MatrixXd test = R.transpose() * (model.leftCols(40).colwise() - t);
+    const ReferenceCloud<double, 3> by_default(model);
+    CHECK(by_default.search().uses_tree() == (n == 2000));
+    const ReferenceCloud<double, 3> copy = by_default;  // copies share the search structure
+    CHECK(&copy.search().points() == &by_default.search().points());
+    const auto a = icp.align(by_default, test);
+    const auto b = icp.align(ReferenceCloud<double, 3, KdTreeSearch<double, 3>>(model), test);
+    const auto c = icp.align(ReferenceCloud<double, 3, BruteForceSearch<double, 3>>(model), test);
+    CHECK(a.iterations > 1);
+    for (const auto* r : {&b, &c}) {
+      CHECK(r->iterations == a.iterations);
+      CHECK(r->error == a.error);
+      CHECK(r->T_model_test.R == a.T_model_test.R);
+      CHECK(r->T_model_test.t == a.T_model_test.t);
+    }
+  }
 }

@@ -20,6 +20,22 @@ Cloud<Scalar, Dim> random_cloud(Index dim, Index n, std::uint64_t seed, double s
 }
 }  // namespace
 
+namespace {
+/// The closest point of `pts` to `q` by the definition: every point's
+/// squared distance, the smaller index on ties.
+Neighbor<double> scan_of(const Cloud<double, 3>& pts, const Eigen::Vector3d& q) {
+  Neighbor<double> best;
+  for (Index j = 0; j < pts.cols(); ++j) {
+    const double d = detail::squared_distance<3>(q.data(), pts.col(j).data(), 3);
+    if (detail::closer(d, j, best.squared_distance, best.index)) {
+      best.index = j;
+      best.squared_distance = d;
+    }
+  }
+  return best;
+}
+}  // namespace
+
 TEST_CASE_TEMPLATE("kd-tree answers exactly what brute force answers", T, float, double) {
   for (Index dim : {1, 2, 3, 4, 8, 67}) {
     for (Index n : {1, 2, 3, 5, 17, 300}) {
@@ -119,18 +135,31 @@ TEST_CASE("bad inputs are typed errors naming the argument") {
   CHECK_THROWS_AS(KdTreeSearch<double>(Cloud<double, Eigen::Dynamic>::Zero(2, 3), {0}), InvalidArgument);
 }
 
-TEST_CASE("copies share the tree and stay valid after the original is gone") {
-  KdTreeSearch<double, 3> copy;
+TEST_CASE_TEMPLATE_DEFINE("copies share the points and stay valid after the original is gone", S, copies_share) {
+  S copy;
   CHECK(copy.size() == 0);
+  CHECK(copy.dim() == 0);
+  CHECK(copy.points().size() == 0);
   CHECK(copy.nearest(Eigen::Vector3d(0, 0, 0)).index == -1);
+  CHECK(copy.nearest(Eigen::Vector3d(0, 0, 0)).squared_distance == std::numeric_limits<double>::infinity());
+  const auto pts = random_cloud<double, 3>(3, 64, 5);
   {
-    const KdTreeSearch<double, 3> original(random_cloud<double, 3>(3, 64, 5));
+    const S original(pts);
     copy = original;
+    const S second = original;
+    CHECK(&second.points() == &original.points());  // one block, not a copy of the points
+    CHECK(&copy.points() == &original.points());
   }
-  const BruteForceSearch<double, 3> brute(random_cloud<double, 3>(3, 64, 5));
   CHECK(copy.size() == 64);
-  CHECK(copy.nearest(Eigen::Vector3d(0.1, 0.2, 0.3)).index == brute.nearest(Eigen::Vector3d(0.1, 0.2, 0.3)).index);
+  CHECK(copy.points() == pts);
+  const Eigen::Vector3d q(0.1, 0.2, 0.3);
+  CHECK(copy.nearest(q).index == scan_of(pts, q).index);
+  CHECK(copy.nearest(q).squared_distance == scan_of(pts, q).squared_distance);
 }
+namespace {
+using Adaptive3d = AdaptiveSearch<double, 3>;
+}
+TEST_CASE_TEMPLATE_INVOKE(copies_share, KdTreeSearch<double, 3>, BruteForceSearch<double, 3>, Adaptive3d);
 
 namespace {
 /// The definition the vectorised scan must reproduce bit for bit: every

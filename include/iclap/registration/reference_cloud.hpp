@@ -8,14 +8,18 @@
 
 #include "iclap/core/check.hpp"
 #include "iclap/core/types.hpp"
-#include "iclap/search/kdtree.hpp"
+#include "iclap/search/adaptive.hpp"
 
 namespace iclap {
 
 /// The model side of a registration, prepared once and shared by any number
 /// of registrations (recognition registers every test against the same
 /// references): the points, centred on their centroid and scaled by the
-/// per-axis weights, inside a search structure (a kd-tree by default).
+/// per-axis weights, inside a search structure. The default,
+/// `AdaptiveSearch`, scans clouds of up to 2048 coordinates by brute force
+/// and builds a kd-tree for larger ones; `KdTreeSearch` and
+/// `BruteForceSearch` force either. All three give the same answers, so the
+/// choice changes only the time.
 ///
 /// Per-axis weights w define the metric of both the closest-point search and
 /// the error: d(p, q)^2 = sum_k (w_k (p_k - q_k))^2. A weight is a scale,
@@ -28,7 +32,7 @@ namespace iclap {
 ///
 /// Immutable after construction; copies share the search structure; const
 /// use is thread-safe.
-template <typename Scalar, int Dim, typename Search = KdTreeSearch<Scalar, Dim>>
+template <typename Scalar, int Dim, typename Search = AdaptiveSearch<Scalar, Dim>>
 class ReferenceCloud {
   ICLAP_CHECK_SCALAR_AND_DIM(Scalar, Dim);
 

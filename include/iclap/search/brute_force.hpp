@@ -5,12 +5,14 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <utility>
 #include <vector>
 
 #include "iclap/core/check.hpp"
 #include "iclap/core/types.hpp"
 #include "iclap/search/neighbor.hpp"
+#include "iclap/search/shared_cloud.hpp"
 
 #if defined(__GNUC__)
 // GCC and Clang: the points are scanned with their vector extensions, 8
@@ -175,6 +177,29 @@ inline bool cpu_has_avx2() noexcept {
 #endif
 #endif  // ICLAP_VECTOR_BRUTE_FORCE
 
+/// BruteForceSearch's shared block: the points and, with the vector scan,
+/// their copy a vector width at a time (see nearest_in_blocks).
+template <typename Scalar, int Dim>
+struct ScanBlock {
+  Cloud<Scalar, Dim> points;
+  bool use_avx2 = true;
+#if defined(ICLAP_VECTOR_BRUTE_FORCE)
+  std::vector<Scalar> lanes;
+  Index blocks = 0;
+#endif
+  ScanBlock(Cloud<Scalar, Dim> p, bool avx2) : points(std::move(p)), use_avx2(avx2) {
+#if defined(ICLAP_VECTOR_BRUTE_FORCE)
+    constexpr int width = block_width<Scalar>;
+    const Index d = points.rows();
+    blocks = (points.cols() + width - 1) / width;
+    lanes.assign(static_cast<std::size_t>(blocks * d * width), std::numeric_limits<Scalar>::infinity());
+    for (Index j = 0; j < points.cols(); ++j)
+      for (Index i = 0; i < d; ++i)
+        lanes[static_cast<std::size_t>(((j / width) * d + i) * width + j % width)] = points(i, j);
+#endif
+  }
+};
+
 }  // namespace detail
 
 /// Exhaustive nearest-neighbour search: O(n) per query, no build cost.
@@ -185,14 +210,22 @@ inline bool cpu_has_avx2() noexcept {
 /// vector width at a time (8 floats or 4 doubles per 32-byte vector), with
 /// AVX2 where an x86 CPU has it. On the few-hundred-point references of a
 /// recognition that is about twice as fast as the kd-tree
-/// (`bench_recognition`, `AdaptiveSearch`). Owns its points. Queries are
-/// const and thread-safe.
+/// (`bench_recognition`, `AdaptiveSearch`).
+///
+/// The points and their vector copy live in one immutable, shared block, as
+/// `KdTreeSearch`'s tree does: copying a `BruteForceSearch` is cheap and the
+/// copies share the points. Queries are const and thread-safe.
 template <typename Scalar, int Dim = Eigen::Dynamic>
-class BruteForceSearch {
+class BruteForceSearch
+    : public detail::SharedCloudSearch<BruteForceSearch<Scalar, Dim>, Scalar, Dim, detail::ScanBlock<Scalar, Dim>> {
   ICLAP_CHECK_SCALAR_AND_DIM(Scalar, Dim);
+  using Base = detail::SharedCloudSearch<BruteForceSearch, Scalar, Dim, detail::ScanBlock<Scalar, Dim>>;
+  using Base::block_;
 
  public:
-  using CloudType = Cloud<Scalar, Dim>;
+  using typename Base::CloudType;
+  using Base::nearest;  // the Eigen-vector overload
+
   struct Settings {
     /// x86: run the AVX2 code where the CPU has it (checked at run time).
     /// false: the baseline code only. The answers are the same either way.
@@ -205,44 +238,37 @@ class BruteForceSearch {
   /// and NonFiniteValue for NaN or infinite coordinates, naming `points`,
   /// and InvalidArgument for more than 2^31 - 9 float points (the scan
   /// numbers them in 32-bit lanes).
-  explicit BruteForceSearch(CloudType points, const Settings& settings = {})
-      : points_(std::move(points)), settings_(settings) {
-    check_not_empty(points_, "points");
-    check_finite(points_, "points");
+  explicit BruteForceSearch(CloudType points, const Settings& settings = {}) {
+    check_not_empty(points, "points");
+    check_finite(points, "points");
 #if defined(ICLAP_VECTOR_BRUTE_FORCE)
     constexpr int width = detail::block_width<Scalar>;
-    if (points_.cols() > Index(std::numeric_limits<typename detail::Lanes<Scalar, 32>::Element>::max() - width))
+    if (points.cols() > Index(std::numeric_limits<typename detail::Lanes<Scalar, 32>::Element>::max() - width))
       throw InvalidArgument("points", "too many points for the brute force's lane indices");
-    const Index d = points_.rows();
-    blocks_ = (points_.cols() + width - 1) / width;
-    lanes_.assign(static_cast<std::size_t>(blocks_ * d * width), std::numeric_limits<Scalar>::infinity());
-    for (Index j = 0; j < points_.cols(); ++j)
-      for (Index i = 0; i < d; ++i)
-        lanes_[static_cast<std::size_t>(((j / width) * d + i) * width + j % width)] = points_(i, j);
 #endif
+    block_ = std::make_shared<const detail::ScanBlock<Scalar, Dim>>(std::move(points), settings.use_avx2);
   }
 
-  Index size() const noexcept { return points_.cols(); }
-  Index dim() const noexcept { return points_.rows(); }
-  const CloudType& points() const noexcept { return points_; }
-
   /// The closest point to `query` (length `dim()`), ties to the smaller index.
+  /// A default-constructed search has no points: index -1, infinite distance.
   Neighbor<Scalar> nearest(const Scalar* query) const noexcept {
     Neighbor<Scalar> best;
+    if (!block_) return best;
+    const detail::ScanBlock<Scalar, Dim>& m = *block_;
 #if defined(ICLAP_VECTOR_BRUTE_FORCE)
 #if defined(ICLAP_AVX2_DISPATCH)
-    if (settings_.use_avx2 && detail::cpu_has_avx2()) {
-      detail::nearest_in_blocks_avx2<Dim>(lanes_.data(), blocks_, points_.rows(), query, best.squared_distance,
+    if (m.use_avx2 && detail::cpu_has_avx2()) {
+      detail::nearest_in_blocks_avx2<Dim>(m.lanes.data(), m.blocks, m.points.rows(), query, best.squared_distance,
                                           best.index);
       return best;
     }
 #endif
-    detail::nearest_in_blocks_baseline<Dim>(lanes_.data(), blocks_, points_.rows(), query, best.squared_distance,
+    detail::nearest_in_blocks_baseline<Dim>(m.lanes.data(), m.blocks, m.points.rows(), query, best.squared_distance,
                                             best.index);
 #else
-    const Index d = points_.rows();
-    for (Index j = 0; j < points_.cols(); ++j) {
-      const Scalar dist = detail::squared_distance<Dim>(query, points_.col(j).data(), d);
+    const Index d = m.points.rows();
+    for (Index j = 0; j < m.points.cols(); ++j) {
+      const Scalar dist = detail::squared_distance<Dim>(query, m.points.col(j).data(), d);
       if (detail::closer(dist, j, best.squared_distance, best.index)) {
         best.index = j;
         best.squared_distance = dist;
@@ -251,22 +277,6 @@ class BruteForceSearch {
 #endif
     return best;
   }
-
-  /// Same as above for an Eigen vector; it is evaluated into a contiguous
-  /// temporary first if it is an expression.
-  template <typename Derived>
-  Neighbor<Scalar> nearest(const Eigen::MatrixBase<Derived>& query) const {
-    const Point<Scalar, Dim> q = query;
-    return nearest(q.data());
-  }
-
- private:
-  CloudType points_;
-  Settings settings_;
-#if defined(ICLAP_VECTOR_BRUTE_FORCE)
-  std::vector<Scalar> lanes_;  // the points, a vector width at a time (see detail::nearest_in_blocks)
-  Index blocks_ = 0;
-#endif
 };
 
 }  // namespace iclap

@@ -12,6 +12,7 @@
 #include "iclap/core/check.hpp"
 #include "iclap/core/types.hpp"
 #include "iclap/search/neighbor.hpp"
+#include "iclap/search/shared_cloud.hpp"
 
 namespace iclap {
 
@@ -75,6 +76,23 @@ struct NearestTieAwareResultSet {
   Scalar worstDist() const { return bound; }
 };
 
+/// KdTreeSearch's shared block: the points and the tree over them.
+template <typename Scalar, int Dim>
+struct KdTreeBlock {
+  using Adaptor = EigenCloudAdaptor<Scalar, Dim>;
+  using Tree = nanoflann::KDTreeSingleIndexAdaptor<SharedL2Metric<Scalar, Dim>, Adaptor, (Dim > 0 ? Dim : -1),
+                                                   std::uint32_t>;
+  Cloud<Scalar, Dim> points;
+  Adaptor adaptor;
+  Tree tree;
+  KdTreeBlock(Cloud<Scalar, Dim> p, std::size_t leaf_max_size)
+      : points(std::move(p)),
+        adaptor{&points},
+        tree(static_cast<int>(points.rows()), adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(leaf_max_size)) {}
+  KdTreeBlock(const KdTreeBlock&) = delete;
+  KdTreeBlock& operator=(const KdTreeBlock&) = delete;
+};
+
 }  // namespace detail
 
 /// Nearest-neighbour search through a nanoflann kd-tree (nanoflann 1.4.3),
@@ -88,11 +106,15 @@ struct NearestTieAwareResultSet {
 /// `KdTreeSearch` is cheap and the copies share the tree; queries are const
 /// and thread-safe, so one reference serves every thread.
 template <typename Scalar, int Dim = Eigen::Dynamic>
-class KdTreeSearch {
+class KdTreeSearch
+    : public detail::SharedCloudSearch<KdTreeSearch<Scalar, Dim>, Scalar, Dim, detail::KdTreeBlock<Scalar, Dim>> {
   ICLAP_CHECK_SCALAR_AND_DIM(Scalar, Dim);
+  using Base = detail::SharedCloudSearch<KdTreeSearch, Scalar, Dim, detail::KdTreeBlock<Scalar, Dim>>;
+  using Base::block_;
 
  public:
-  using CloudType = Cloud<Scalar, Dim>;
+  using typename Base::CloudType;
+  using Base::nearest;  // the Eigen-vector overload
 
   struct Settings {
     /// Points per leaf: larger builds faster and searches a little slower.
@@ -111,14 +133,7 @@ class KdTreeSearch {
       throw InvalidArgument("points", "too many points for the kd-tree index type");
     if (settings.leaf_max_size == 0)
       throw InvalidArgument("settings.leaf_max_size", "must be at least 1");
-    impl_ = std::make_shared<const Impl>(std::move(points), settings);
-  }
-
-  Index size() const noexcept { return impl_ ? impl_->points.cols() : 0; }
-  Index dim() const noexcept { return impl_ ? impl_->points.rows() : 0; }
-  const CloudType& points() const noexcept {
-    static const CloudType empty;
-    return impl_ ? impl_->points : empty;
+    block_ = std::make_shared<const detail::KdTreeBlock<Scalar, Dim>>(std::move(points), settings.leaf_max_size);
   }
 
   /// The closest point to `query` (length `dim()`), ties to the smaller index.
@@ -131,46 +146,18 @@ class KdTreeSearch {
   /// nearest point. A hint outside [0, size()) means no hint.
   Neighbor<Scalar> nearest(const Scalar* query, Index hint) const {
     Neighbor<Scalar> result;
-    if (!impl_) return result;
+    if (!block_) return result;
     detail::NearestTieAwareResultSet<Scalar> set;
-    if (hint >= 0 && hint < impl_->points.cols())
-      set.addPoint(detail::squared_distance<Dim>(query, impl_->points.col(hint).data(), impl_->points.rows()),
+    if (hint >= 0 && hint < block_->points.cols())
+      set.addPoint(detail::squared_distance<Dim>(query, block_->points.col(hint).data(), block_->points.rows()),
                    static_cast<std::uint32_t>(hint));
-    impl_->tree.findNeighbors(set, query, nanoflann::SearchParams());
+    block_->tree.findNeighbors(set, query, nanoflann::SearchParams());
     if (set.full()) {
       result.index = static_cast<Index>(set.index);
       result.squared_distance = set.best;
     }
     return result;
   }
-
-  /// Same as above for an Eigen vector (evaluated into a temporary if it is
-  /// an expression).
-  template <typename Derived>
-  Neighbor<Scalar> nearest(const Eigen::MatrixBase<Derived>& query) const {
-    const Point<Scalar, Dim> q = query;
-    return nearest(q.data());
-  }
-
- private:
-  using Adaptor = detail::EigenCloudAdaptor<Scalar, Dim>;
-  using Metric = detail::SharedL2Metric<Scalar, Dim>;
-  using Tree = nanoflann::KDTreeSingleIndexAdaptor<Metric, Adaptor, (Dim > 0 ? Dim : -1), std::uint32_t>;
-
-  struct Impl {
-    CloudType points;
-    Adaptor adaptor;
-    Tree tree;
-    Impl(CloudType p, const Settings& settings)
-        : points(std::move(p)),
-          adaptor{&points},
-          tree(static_cast<int>(points.rows()), adaptor,
-               nanoflann::KDTreeSingleIndexAdaptorParams(settings.leaf_max_size)) {}
-    Impl(const Impl&) = delete;
-    Impl& operator=(const Impl&) = delete;
-  };
-
-  std::shared_ptr<const Impl> impl_;
 };
 
 }  // namespace iclap
