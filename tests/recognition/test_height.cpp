@@ -268,6 +268,21 @@ TEST_CASE("height_contact: heights, tilts and contact extents; without the patch
 
   contact.label = "mine";
   CHECK(contact.name() == "mine");
+
+  // Distances use the scales of the fit: changing them afterwards changes
+  // nothing until the next fit (no mix of a 2-coordinate reference with
+  // 4-coordinate tests or the reverse).
+  plain.contact_scale = c;
+  plain.tilt_scale = 1;
+  contact.contact_scale = 0;
+  Eigen::VectorXd d_plain_after(2), d_after(2);
+  plain.distances(test, d_plain_after);
+  contact.distances(test, d_after);
+  CHECK(d_plain_after == d_plain);
+  CHECK(d_after == d);
+  contact.fit({broad, thin}, 0);  // now without the contact patch
+  contact.distances(test, d_after);
+  CHECK(d_after == d_plain);
 }
 
 TEST_CASE("height_contact distances do not change under a planar motion of the test") {

@@ -58,8 +58,9 @@ inline Eigen::Vector2d contact_extents(const Eigen::Ref<const Eigen::Matrix3Xd>&
 /// cannot tell apart objects with the same heights and slopes, and it
 /// assumes the planar scene (the table plane fixed in the rig frame between
 /// training and test). Each object's invariants sit in a search structure
-/// (AdaptiveSearch: brute force up to 512 touches, a kd-tree above) built
-/// once per fit, so a distance costs one nearest-point query
+/// (AdaptiveSearch: brute force up to 2048 coordinates, i.e. 1024 touches
+/// without the contact patch and 512 with it, a kd-tree above) built once
+/// per fit, so a distance costs one nearest-point query
 /// per test touch and object.
 ///
 /// With `contact_scale` c > 0 each touch also carries the size of its
@@ -105,28 +106,34 @@ class HeightClassifier final : public Classifier {
   void fit(const std::vector<TouchSet>& objects, Index /*vocabulary*/) override {
     validate();
     if (objects.empty()) throw EmptyInput("objects", "no object to recognise");
-    std::vector<Search> searches;
-    searches.reserve(objects.size());
+    const Scales scales{tilt_scale, contact_scale};
+    std::vector<FullSearch> full;
+    std::vector<PlaneSearch> plane;
     for (std::size_t j = 0; j < objects.size(); ++j) {
-      const std::string name = "objects[" + std::to_string(j) + "]";
-      searches.emplace_back(embed(objects[j], name));
+      const Points p = embed(objects[j], "objects[" + std::to_string(j) + "]", scales);
+      if (scales.contact > 0)
+        full.emplace_back(p);
+      else
+        plane.emplace_back(p.topRows<2>());
     }
-    searches_ = std::move(searches);
+    full_ = std::move(full);
+    plane_ = std::move(plane);
+    fitted_ = scales;
   }
 
-  /// Throws EmptyInput naming "test.normals" (or "test.contact_points") for a
-  /// test without what the classifier needs.
+  /// Uses the scales of the last fit(), whatever they are now. Throws
+  /// EmptyInput naming "test.normals" (or "test.contact_points") for a test
+  /// without what the classifier needs.
   void distances(const TouchSet& test, Eigen::Ref<Eigen::VectorXd> out) const override {
     check_dimension(out.size(), objects(), "out");
-    const Points p = embed(test, "test");
-    for (std::size_t j = 0; j < searches_.size(); ++j) {
-      double e = 0;
-      for (Index i = 0; i < p.cols(); ++i) e += searches_[j].nearest(p.col(i).data()).squared_distance;
-      out(static_cast<Index>(j)) = e;
-    }
+    const Points p = embed(test, "test", fitted_);
+    if (fitted_.contact > 0)
+      sum_nearest(full_, p, out);
+    else
+      sum_nearest(plane_, Eigen::Matrix2Xd(p.topRows<2>()), out);
   }
 
-  Index objects() const override { return static_cast<Index>(searches_.size()); }
+  Index objects() const override { return static_cast<Index>(full_.size() + plane_.size()); }
 
   void validate() const {
     if (!(tilt_scale > 0) || !std::isfinite(tilt_scale))
@@ -138,12 +145,21 @@ class HeightClassifier final : public Classifier {
   /// The points (z, s theta, c l_1, c l_2) of `touches`, one column per
   /// touch; the last two rows are 0 when contact_scale is 0.
   Eigen::Matrix4Xd embed(const TouchSet& touches, const std::string& argument) const {
+    return embed(touches, argument, Scales{tilt_scale, contact_scale});
+  }
+
+ private:
+  struct Scales {
+    double tilt = 0.01, contact = 0;
+  };
+
+  Eigen::Matrix4Xd embed(const TouchSet& touches, const std::string& argument, const Scales& scales) const {
     touches.validate(argument);
     if (!touches.has_normals())
       throw EmptyInput(argument + ".normals", "the " + name() +
                                                   " classifier needs the pad orientation of every touch (dataset "
                                                   "columns qw, qx, qy, qz)");
-    const bool contacts = contact_scale > 0;
+    const bool contacts = scales.contact > 0;
     if (contacts && !touches.has_contacts())
       throw EmptyInput(argument + ".contact_points",
                        "the " + name() + " classifier needs the contact points of the touches (the pressed taxels "
@@ -151,21 +167,36 @@ class HeightClassifier final : public Classifier {
     Points p = Points::Zero(4, touches.size());
     for (Index i = 0; i < touches.size(); ++i) {
       p.col(i).head<2>() = height_and_tilt(touches.positions.col(i), touches.normals.col(i));
-      p(1, i) *= tilt_scale;
+      p(1, i) *= scales.tilt;
       if (contacts) {
         const Index begin = touches.contact_offsets[static_cast<std::size_t>(i)];
-        p.col(i).tail<2>() = contact_scale * contact_extents(touches.contact_points.middleCols(begin, touches.contacts_of(i)));
+        p.col(i).tail<2>() = scales.contact * contact_extents(touches.contact_points.middleCols(begin, touches.contacts_of(i)));
       }
     }
     return p;
   }
 
- private:
+  /// out(j) = sum over the columns of `p` of the squared distance to the
+  /// nearest point of object j: E_height or E_height_contact above.
+  template <typename Search, typename Matrix>
+  static void sum_nearest(const std::vector<Search>& searches, const Matrix& p, Eigen::Ref<Eigen::VectorXd> out) {
+    for (std::size_t j = 0; j < searches.size(); ++j) {
+      double e = 0;
+      for (Index i = 0; i < p.cols(); ++i) e += searches[j].nearest(p.col(i).data()).squared_distance;
+      out(static_cast<Index>(j)) = e;
+    }
+  }
+
   using Points = Eigen::Matrix4Xd;
-  // Brute force up to 512 touches per object, a kd-tree above. Without the
-  // contact patch the last two coordinates are 0 and add exactly nothing.
-  using Search = AdaptiveSearch<double, 4>;
-  std::vector<Search> searches_;
+  // Brute force up to 512 touches per object (2048 coordinates), a kd-tree
+  // above. Without the contact patch the points are (z, s theta) only: the
+  // 4-D scan with two zero coordinates gives the same sums to the last bit
+  // (each adds + 0 twice) but costs a third more.
+  using FullSearch = AdaptiveSearch<double, 4>;
+  using PlaneSearch = AdaptiveSearch<double, 2>;
+  std::vector<FullSearch> full_;    // contact_scale > 0 at fit
+  std::vector<PlaneSearch> plane_;  // contact_scale == 0 at fit
+  Scales fitted_;
 };
 
 }  // namespace iclap
