@@ -13,7 +13,9 @@
 /// `Icp` passes each test point's previous match as the hint when the policy
 /// has it (`KdTreeSearch` does; brute force gains nothing from a hint).
 /// `AdaptiveSearch` is brute force on small clouds and a kd-tree on the
-/// others (the recognition classifiers' default).
+/// others (the default of `ReferenceCloud` and of the recognition
+/// classifiers). `KdTreeSearch` and `BruteForceSearch` keep their points in
+/// one immutable block that copies share.
 #include "iclap/search/adaptive.hpp"
 #include "iclap/search/brute_force.hpp"
 #include "iclap/search/kdtree.hpp"

@@ -121,7 +121,8 @@ struct is_search_policy<
 /// scale); switch pruning off for very large n x k.
 ///
 /// After fit(), assign() is const and thread-safe; copies are independent
-/// (a KdTreeSearch policy shares its immutable tree).
+/// (they share the search policy's immutable points or tree, which no fit
+/// changes: a fit builds a new one).
 template <typename Scalar = float, int Dim = Eigen::Dynamic, typename Search = BruteForceSearch<Scalar, Dim>>
 class KMeansQuantizer {
   ICLAP_CHECK_SCALAR_AND_DIM(Scalar, Dim);
