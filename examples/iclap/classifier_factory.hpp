@@ -5,8 +5,6 @@
 // ask for. Instantiated once per scalar type in its own translation unit
 // (classifiers_float.cpp, classifiers_double.cpp) so they compile in parallel.
 
-#include <cstddef>
-#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -28,10 +26,7 @@ void configure(C& c, const RecognitionOptions& o, const std::string& label) {
   c.icp.termination.max_iterations = o.max_iterations;
   c.icp.termination.relative_tolerance = static_cast<Scalar>(o.relative_tolerance);
   c.icp.rejection.trim_fraction = static_cast<Scalar>(o.trim_of(label));
-  // --search: AdaptiveSearch chooses per reference (auto), or always the
-  // kd-tree, or always brute force.
-  if (o.search == "kdtree") c.search_settings.brute_force_max_coordinates = 0;
-  if (o.search == "brute") c.search_settings.brute_force_max_coordinates = std::numeric_limits<std::size_t>::max();
+  apply_search_choice(o.search, c.search_settings);
 }
 
 /// `name` is the base classifier ("patch"), `label` its name in the

@@ -12,6 +12,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
@@ -244,5 +245,15 @@ class Progress {
   std::mutex mutex_;
   std::chrono::steady_clock::time_point last_{};
 };
+
+/// `--search auto|kdtree|brute` applied to `AdaptiveSearch` settings (the
+/// one search type the commands instantiate): auto keeps them (brute force
+/// up to their limit, a kd-tree above), kdtree always builds the tree,
+/// brute always scans.
+template <typename AdaptiveSettings>
+void apply_search_choice(const std::string& choice, AdaptiveSettings& settings) {
+  if (choice == "kdtree") settings.brute_force_max_coordinates = 0;
+  if (choice == "brute") settings.brute_force_max_coordinates = std::numeric_limits<std::size_t>::max();
+}
 
 }  // namespace iclap::cli

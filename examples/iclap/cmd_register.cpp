@@ -2,9 +2,7 @@
 //
 // `iclap register MODEL TEST`: N-D ICP of two point files.
 
-#include <cstddef>
 #include <cstdio>
-#include <limits>
 #include <string>
 
 #include "cli.hpp"
@@ -74,10 +72,8 @@ int run_typed(const Request& q) {
   const Eigen::Index d = q.model.rows();
   Point<Scalar, Dim> w = Point<Scalar, Dim>::Ones(d);
   for (Eigen::Index k = 0; k < d && !q.weights.empty(); ++k) w(k) = static_cast<Scalar>(q.weights[static_cast<std::size_t>(k)]);
-  // One search type; --search kdtree and brute are its settings.
   typename AdaptiveSearch<Scalar, Dim>::Settings search;
-  if (q.search == "kdtree") search.brute_force_max_coordinates = 0;
-  if (q.search == "brute") search.brute_force_max_coordinates = std::numeric_limits<std::size_t>::max();
+  cli::apply_search_choice(q.search, search);
   const ReferenceCloud<Scalar, Dim> reference(q.model.cast<Scalar>(), w, search);
   Icp<Scalar, Dim, Model> icp;
   icp.termination.max_iterations = q.max_iterations;
