@@ -191,8 +191,8 @@ class HeightClassifier final : public Classifier {
   // Brute force up to 512 touches per object (2048 coordinates), a kd-tree
   // above. Without the contact patch the points are (z, s theta) only: the
   // 4-D scan with two zero coordinates gives the same sums to the last bit
-  // (each adds + 0 twice) but takes 1.26x as long (bench_recognition,
-  // BM_HeightSearch).
+  // (each adds + 0 twice) but takes 1.24-1.26x as long (bench_recognition,
+  // BM_HeightSearch, two runs).
   using FullSearch = AdaptiveSearch<double, 4>;
   using PlaneSearch = AdaptiveSearch<double, 2>;
   std::vector<FullSearch> full_;    // contact_scale > 0 at fit
