@@ -26,6 +26,13 @@ void print_help(std::FILE* out) {
   for (const auto& c : commands) std::fprintf(out, "  %-10s %s\n", c.name.c_str(), c.summary.c_str());
 }
 
+/// The synopsis of a command's usage text: its lines up to the first blank
+/// one (the "usage: iclap NAME ..." lines).
+std::string synopsis(const std::string& usage) {
+  const auto blank = usage.find("\n\n");
+  return blank == std::string::npos ? usage : usage.substr(0, blank);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -58,7 +65,10 @@ int main(int argc, char** argv) {
   try {
     return it->run(args);
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "iclap %s: %s\n%s\n", name.c_str(), e.what(), it->usage.c_str());
+    // The message, then only the synopsis: the whole option list would
+    // scroll the message off the terminal.
+    std::fprintf(stderr, "iclap %s: %s\n%s\n(every option: iclap %s --help)\n", name.c_str(), e.what(),
+                 synopsis(it->usage).c_str(), name.c_str());
     return kExitBadInput;
   } catch (const iclap::ParseError& e) {
     std::fprintf(stderr, "%s\n", e.what());  // FILE:LINE: reason
