@@ -103,3 +103,13 @@ run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods height_contact,height_cont
     --weight-repeats 1 --seed 7 --contact-scale 0.5 --out ${WORK_DIR}/height_contact)
 expect_match("${out}" "height_contact: tilt scale 0.01 m/rad, contact scale 0.5 m/m")
 expect_file_lines(${WORK_DIR}/height_contact/results.csv 5 "height_contact\\+patch,5,(0(\\.[0-9]+)?|1),")
+# Two explorations per object: fixed weights run, fitted ones are refused
+# before anything is written, with the object, the method and what they need.
+run(${ICLAP} simulate --objects ${OBJECTS} --unit m --explorations 2 --seed 5 --out ${WORK_DIR}/two.csv)
+run(${ICLAP} evaluate ${WORK_DIR}/two.csv --methods icp,0.5*icp+0.5*bow --touches 1,2 --repeats 2 --out ${WORK_DIR}/fixed2)
+expect_file_lines(${WORK_DIR}/fixed2/results.csv 5 "0\\.5\\*icp\\+0\\.5\\*bow,2,(0(\\.[0-9]+)?|1),")
+run_expect(2 ${ICLAP} evaluate ${WORK_DIR}/two.csv --methods icp,icp+bow --touches 1,2 --repeats 2 --out ${WORK_DIR}/fitted2)
+expect_match("${err}" "two\\.csv: object '[a-z_]+' has 2 explorations with touches; method 'icp\\+bow' is chosen on inner folds .*which needs at least 3")
+if(EXISTS ${WORK_DIR}/fitted2)
+  message(FATAL_ERROR "a refused evaluate left ${WORK_DIR}/fitted2 behind")
+endif()

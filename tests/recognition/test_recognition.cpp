@@ -6,6 +6,8 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <type_traits>
+#include <vector>
 
 #include "iclap/core/random.hpp"
 #include "iclap/recognition/recognition.hpp"
@@ -381,6 +383,43 @@ TEST_CASE("cross validation refuses what it cannot do") {
                        InvalidArgument);
   CrossValidationSettings s;
   s.touches = {0};
-  CHECK_THROWS_AS(CrossValidation<>(synthetic_table(5), only_bow, codebook(4), {parse_method("bow")}, s),
+  const TouchTable five = synthetic_table(5);
+  CHECK_THROWS_AS(CrossValidation<>(five, only_bow, codebook(4), {parse_method("bow")}, s),
                   InvalidArgument);
+}
+
+TEST_CASE("weights chosen on inner folds need 3 explorations of every object, fixed weights 2") {
+  const TouchTable full = synthetic_table(6);  // explorations 10..13
+  std::vector<Index> rows;
+  for (Index i = 0; i < full.size(); ++i)
+    if (full.exploration[static_cast<std::size_t>(i)] <= 11) rows.push_back(i);
+  const TouchTable two = full.select(rows);
+  CrossValidationSettings s;
+  s.touches = {1, 3};
+  s.repeats = 2;
+  CHECK_THROWS_WITH_AS(CrossValidation<>(two, test::paper_classifiers, codebook(4),
+                                         {parse_method("bow"), parse_method("icp+bow")}, s),
+                       "table: object 'bar' has 2 explorations with touches; method 'icp+bow' is chosen on inner "
+                       "folds of each fold's training explorations (weights or trimming), which needs at least 3 "
+                       "(methods with fixed weights need only 2)",
+                       InvalidArgument);
+  // Fixed weights and single classifiers need no inner folds.
+  CrossValidation<> fixed(two, test::paper_classifiers, codebook(4),
+                          {parse_method("bow"), parse_method("0.5*icp+0.5*bow")}, s);
+  const CrossValidationResult r = fixed.run();
+  CHECK(r.folds == 2);
+  CHECK(r.methods.size() == 2);
+  CHECK(r.methods.at(1).total.at(1) > 0);
+  // With a third exploration, the fitted weights run.
+  rows.clear();
+  for (Index i = 0; i < full.size(); ++i)
+    if (full.exploration[static_cast<std::size_t>(i)] <= 12) rows.push_back(i);
+  // The table is kept by reference, so a temporary one does not compile.
+  static_assert(!std::is_constructible_v<CrossValidation<>, TouchTable, ClassifierFactory, KMeansQuantizer<float>,
+                                         std::vector<Method>, CrossValidationSettings>);
+  static_assert(std::is_constructible_v<CrossValidation<>, const TouchTable&, ClassifierFactory,
+                                        KMeansQuantizer<float>, std::vector<Method>, CrossValidationSettings>);
+  const TouchTable three_explorations = full.select(rows);
+  CrossValidation<> three(three_explorations, test::paper_classifiers, codebook(4), {parse_method("icp+bow")}, s);
+  CHECK(three.run().folds == 3);
 }

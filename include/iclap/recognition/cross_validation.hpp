@@ -143,7 +143,8 @@ using ClassifierFactory = std::function<std::vector<std::unique_ptr<Classifier>>
 ///    depend on threads or order.
 /// Every test set is registered once per classifier; all methods fuse those
 /// same distances. Runs `threads` workers; results are identical for any
-/// thread count.
+/// thread count. Keeps a reference to the touch table, which must outlive
+/// it (a temporary table does not compile).
 template <typename Quantizer = KMeansQuantizer<float>>
 class CrossValidation {
   ICLAP_CHECK_QUANTIZER(Quantizer, Eigen::MatrixXf);
@@ -151,7 +152,9 @@ class CrossValidation {
  public:
   /// Throws at construction for an empty method list or a method that needs
   /// a classifier the factory does not make (InvalidArgument naming
-  /// "methods"), and for invalid settings.
+  /// "methods"), for invalid settings, and (naming "table") for an object
+  /// with fewer than 2 explorations, or fewer than 3 when a method's weights
+  /// or trimming are chosen on inner folds.
   CrossValidation(const TouchTable& table, ClassifierFactory factory, Quantizer quantizer, std::vector<Method> methods,
                   CrossValidationSettings settings = {})
       : table_(table),
@@ -176,6 +179,20 @@ class CrossValidation {
       folds_ = std::min(folds_, static_cast<int>(ids.size()));
       explorations_.push_back(ids);
     }
+    // A method chosen in training holds out each of a fold's training
+    // explorations in turn (inner folds); an object with 2 explorations has
+    // only 1 training exploration per fold, and nothing left to fit on.
+    const auto chosen = std::find_if(methods_.begin(), methods_.end(),
+                                     [](const Method& m) { return m.chosen_in_training(); });
+    if (chosen != methods_.end())
+      for (std::size_t o = 0; o < explorations_.size(); ++o)
+        if (explorations_[o].size() < 3)
+          throw InvalidArgument("table", "object '" + table_.objects[o] + "' has " +
+                                             std::to_string(explorations_[o].size()) +
+                                             " explorations with touches; method '" + chosen->name +
+                                             "' is chosen on inner folds of each fold's training explorations "
+                                             "(weights or trimming), which needs at least 3 (methods with fixed "
+                                             "weights need only 2)");
     // Classifiers the weight and candidate search needs (the only ones
     // computed on inner folds).
     std::vector<Fusion> searched;
@@ -184,6 +201,10 @@ class CrossValidation {
         for (const auto& f : m.candidates()) searched.push_back(f);
     fitted_classifiers_ = classifiers_of(searched);
   }
+
+  /// The table is kept by reference: a temporary would dangle.
+  CrossValidation(const TouchTable&& table, ClassifierFactory factory, Quantizer quantizer,
+                  std::vector<Method> methods, CrossValidationSettings settings = {}) = delete;
 
   int folds() const noexcept { return folds_; }
 
