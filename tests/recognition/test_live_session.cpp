@@ -9,6 +9,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "iclap/core/random.hpp"
@@ -268,6 +269,10 @@ TEST_CASE("live session: touches with the pad orientation feed height and patch,
   CHECK_FALSE(unoriented.normal);
   CHECK(unoriented.contact_points.cols() == 0);
 }
+
+// A session keeps a pointer to its recogniser: a temporary does not compile.
+static_assert(std::is_constructible_v<LiveSession, const Recognizer&, Fusion, LiveStopRule, Index>);
+static_assert(!std::is_constructible_v<LiveSession, Recognizer, Fusion, LiveStopRule, Index>);
 
 TEST_CASE("live session: empty state and errors") {
   const TouchTable t = synthetic_table(3);

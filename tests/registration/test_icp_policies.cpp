@@ -3,6 +3,8 @@
 // the meaning of the reported error.
 
 #include <string>
+#include <type_traits>
+#include <utility>
 
 #include "icp_test_util.hpp"
 
@@ -295,6 +297,19 @@ TEST_CASE("initial transform and centroid alignment") {
   const auto planar = Icp<double, 3, Planar>().align(ref, model, lifted);
   CHECK(planar.T_model_test.t(2) == doctest::Approx(0.5));
 }
+
+namespace {
+// Whether `icp.start(reference, ...)` compiles for a reference of type Ref.
+template <typename Ref, typename = void>
+struct can_start : std::false_type {};
+template <typename Ref>
+struct can_start<Ref, std::void_t<decltype(std::declval<const Icp<double, 4, SpatialRigid>&>().start(
+                          std::declval<Ref>(), std::declval<const Eigen::MatrixXd&>(), nullptr,
+                          std::declval<IcpWorkspace<double, 4>&>()))>> : std::true_type {};
+// The registration keeps a pointer to its reference: a temporary does not compile.
+static_assert(can_start<const ReferenceCloud<double, 4>&>::value);
+static_assert(!can_start<ReferenceCloud<double, 4>>::value);
+}  // namespace
 
 TEST_CASE("a resumable registration matches align and never increases the error") {
   const Eigen::MatrixXd model = random_points(4, 150, 81);

@@ -257,6 +257,10 @@ class LiveSession {
     return add_touch(t);
   }
 
+  /// The session keeps a pointer to the recogniser: a temporary one would
+  /// dangle, so it does not compile.
+  LiveSession(const Recognizer&& recognizer, Fusion fusion, LiveStopRule rule = {}, Index vocabulary = 0) = delete;
+
   /// Forgets every touch (a new exploration with the same references).
   void reset() {
     touches_ = TouchSet{};

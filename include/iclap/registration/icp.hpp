@@ -180,6 +180,17 @@ class Icp {
     return Registration<Search>(*this, reference, test, initial, workspace, first.data());
   }
 
+  /// The registration keeps a pointer to the reference: a temporary one
+  /// would dangle, so it does not compile.
+  template <typename Search, typename Derived>
+  Registration<Search> start(const ReferenceCloud<Scalar, Dim, Search>&& reference,
+                             const Eigen::MatrixBase<Derived>& test, const Transform* initial,
+                             Workspace& workspace) const = delete;
+  template <typename Search, typename Derived>
+  Registration<Search> start(const ReferenceCloud<Scalar, Dim, Search>&& reference,
+                             const Eigen::MatrixBase<Derived>& test, const Transform* initial, Workspace& workspace,
+                             const std::vector<Neighbor<Scalar>>& first) const = delete;
+
  private:
   // Also used by Registration (a nested class sees them).
   using Acc = Accumulator<Scalar>;
