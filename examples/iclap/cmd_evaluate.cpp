@@ -396,14 +396,8 @@ int run_evaluate(const Args& args) {
   const ClassifierFactory factory = [ro, built] { return make_classifiers(ro, built); };
 
   // What the dataset's explorations do not allow names the file.
-  CrossValidation<> cv = [&] {
-    try {
-      return CrossValidation<>(table, factory, make_quantizer(ro), methods, s);
-    } catch (const InvalidArgument& e) {
-      if (e.argument() != "table") throw;
-      throw InvalidArgument(origin, std::string(e.what()).substr(e.argument().size() + 2));
-    }
-  }();
+  CrossValidation<> cv =
+      naming_dataset(origin, [&] { return CrossValidation<>(table, factory, make_quantizer(ro), methods, s); });
   const unsigned threads = s.threads > 0 ? static_cast<unsigned>(s.threads) : std::max(1u, std::thread::hardware_concurrency());
   std::printf("iclap %s evaluate\ndataset: %s\n", ICLAP_VERSION_STRING, origin.c_str());
   std::printf("%zu objects, %zu frames, %ld touches (contact threshold %g), %d folds (one exploration of every object held out)\n",

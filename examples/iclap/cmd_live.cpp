@@ -223,8 +223,10 @@ int run_cross_validation(const Options& o, const Setup& setup, const std::string
       cv_progress.finish();  // its line is complete once the replays start
       replay_progress(done, total);
     };
-    r = evaluate_live_stopping(table, setup.factory, make_quantizer(setup.ro), setup.method, s, std::ref(cv_progress),
-                               replayed);
+    r = naming_dataset(path, [&] {
+      return evaluate_live_stopping(table, setup.factory, make_quantizer(setup.ro), setup.method, s,
+                                    std::ref(cv_progress), replayed);
+    });
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("%d folds (one exploration of every object held out); %zu held-out explorations replayed in time order, "
@@ -465,8 +467,10 @@ int run_live(const Options& o, const Setup& setup, const std::string& path, cons
     const LiveWeights w = [&] {
       try {
         Progress progress("choosing fusion weights");
-        return choose_live_weights(table, setup.factory, make_quantizer(setup.ro), setup.method, cvs,
-                                   std::ref(progress));
+        return naming_dataset(path, [&] {
+          return choose_live_weights(table, setup.factory, make_quantizer(setup.ro), setup.method, cvs,
+                                     std::ref(progress));
+        });
       } catch (const InvalidArgument& e) {
         throw UsageError("--method " + setup.method.name + " has fitted weights, chosen by leave-one-exploration-out "
                          "search on the references, which failed: " + std::string(e.what()) +

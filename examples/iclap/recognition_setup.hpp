@@ -335,6 +335,20 @@ inline void check_orientation(const std::vector<std::string>& needed, const Touc
   }
 }
 
+/// Runs `f` and returns what it returns. An InvalidArgument naming "table"
+/// (what the dataset's explorations do not allow, e.g. too few of an object
+/// for cross validation) is thrown again naming `dataset`, the file (or
+/// origin) the table was made from; other exceptions pass through.
+template <typename F>
+auto naming_dataset(const std::string& dataset, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const InvalidArgument& e) {
+    if (e.argument() != "table") throw;
+    throw InvalidArgument(dataset, e.reason());
+  }
+}
+
 /// The touches of `dataset` described by the chosen descriptor.
 TouchTable make_touch_table(const Dataset& dataset, const RecognitionOptions& options,
                             const ProgressCallback& progress = {});

@@ -379,7 +379,7 @@ TEST_CASE("cross validation refuses what it cannot do") {
   for (std::size_t i = 0; i < t.object.size(); ++i)
     if (t.object[i] == 1) t.exploration[i] = 10;
   CHECK_THROWS_WITH_AS(CrossValidation<>(t, only_bow, codebook(4), {parse_method("bow")}),
-                       "table: object 'ring' has 1 exploration(s) with touches; cross validation needs at least 2",
+                       "table: object 'ring' has 1 exploration with touches; cross validation needs at least 2",
                        InvalidArgument);
   CrossValidationSettings s;
   s.touches = {0};
@@ -401,7 +401,7 @@ TEST_CASE("weights chosen on inner folds need 3 explorations of every object, fi
                                          {parse_method("bow"), parse_method("icp+bow")}, s),
                        "table: object 'bar' has 2 explorations with touches; method 'icp+bow' is chosen on inner "
                        "folds of each fold's training explorations (weights or trimming), which needs at least 3 "
-                       "(methods with fixed weights need only 2)",
+                       "explorations of every object (give fixed weights and trimming, which need only 2)",
                        InvalidArgument);
   // Fixed weights and single classifiers need no inner folds.
   CrossValidation<> fixed(two, test::paper_classifiers, codebook(4),

@@ -462,6 +462,7 @@ TEST_CASE("iclap live: bad input exits 2 with a clear message") {
       {{"live", "--references", refs, "--cross-validate", "--fixed", "30"}, "--fixed: 30 exceeds --max-touches 20"},
       {{"live", "--references", kClamp, "--cross-validate", "--method", kMethod}, "needs at least 2"},
       {{"live", "--references", refs, "--cross-validate", "--method", "iclap+icp"}, "at least 3 explorations"},
+      {{"live", "--references", refs, "--cross-validate", "--method", "iclap+icp"}, refs + ": object '"},
       {{"live", "--references", refs, "--replay", kClamp, "--normalization", "minmax"}, "unknown option --normalization"},
   };
   test::check_usage_errors(cases, scratch);

@@ -19,16 +19,18 @@ class Error : public std::runtime_error {
 };
 
 /// A caller passed a value the contract does not allow. `argument()` names
-/// the parameter (or the setting, e.g. "settings.trim_fraction"); `what()`
-/// reads "argument: reason".
+/// the parameter (or the setting, e.g. "settings.trim_fraction"),
+/// `reason()` what is wrong with it; `what()` reads "argument: reason".
 class InvalidArgument : public Error {
  public:
-  InvalidArgument(std::string argument, const std::string& reason)
-      : Error(argument + ": " + reason), argument_(std::move(argument)) {}
+  InvalidArgument(std::string argument, std::string reason)
+      : Error(argument + ": " + reason), argument_(std::move(argument)), reason_(std::move(reason)) {}
   const std::string& argument() const noexcept { return argument_; }
+  const std::string& reason() const noexcept { return reason_; }
 
  private:
   std::string argument_;
+  std::string reason_;
 };
 
 /// An input that must hold at least one element holds none.

@@ -169,30 +169,26 @@ class CrossValidation {
     Recognizer probe(factory_(), settings_.normalization);
     probe.check(methods_);
     if (table_.size() == 0) throw EmptyInput("table", "holds no touch");
-    folds_ = std::numeric_limits<int>::max();
-    for (Index o = 0; o < static_cast<Index>(table_.objects.size()); ++o) {
-      const auto ids = table_.explorations_of(o);
-      if (ids.size() < 2)
-        throw InvalidArgument("table", "object '" + table_.objects[static_cast<std::size_t>(o)] + "' has " +
-                                           std::to_string(ids.size()) +
-                                           " exploration(s) with touches; cross validation needs at least 2");
-      folds_ = std::min(folds_, static_cast<int>(ids.size()));
-      explorations_.push_back(ids);
-    }
     // A method chosen in training holds out each of a fold's training
     // explorations in turn (inner folds); an object with 2 explorations has
     // only 1 training exploration per fold, and nothing left to fit on.
     const auto chosen = std::find_if(methods_.begin(), methods_.end(),
                                      [](const Method& m) { return m.chosen_in_training(); });
-    if (chosen != methods_.end())
-      for (std::size_t o = 0; o < explorations_.size(); ++o)
-        if (explorations_[o].size() < 3)
-          throw InvalidArgument("table", "object '" + table_.objects[o] + "' has " +
-                                             std::to_string(explorations_[o].size()) +
-                                             " explorations with touches; method '" + chosen->name +
-                                             "' is chosen on inner folds of each fold's training explorations "
-                                             "(weights or trimming), which needs at least 3 (methods with fixed "
-                                             "weights need only 2)");
+    folds_ = std::numeric_limits<int>::max();
+    for (Index o = 0; o < static_cast<Index>(table_.objects.size()); ++o) {
+      const auto ids = table_.explorations_of(o);
+      const std::string has = "object '" + table_.objects[static_cast<std::size_t>(o)] + "' has " +
+                              std::to_string(ids.size()) + (ids.size() == 1 ? " exploration" : " explorations") +
+                              " with touches; ";
+      if (ids.size() < 2) throw InvalidArgument("table", has + "cross validation needs at least 2");
+      if (ids.size() < 3 && chosen != methods_.end())
+        throw InvalidArgument("table", has + "method '" + chosen->name +
+                                           "' is chosen on inner folds of each fold's training explorations "
+                                           "(weights or trimming), which needs at least 3 explorations of every "
+                                           "object (give fixed weights and trimming, which need only 2)");
+      folds_ = std::min(folds_, static_cast<int>(ids.size()));
+      explorations_.push_back(ids);
+    }
     // Classifiers the weight and candidate search needs (the only ones
     // computed on inner folds).
     std::vector<Fusion> searched;

@@ -626,10 +626,10 @@ struct LiveEvaluationResult {
 /// Deterministic: the replays have no randomness and the CrossValidation run
 /// is seeded; results do not depend on the thread count. `progress` gets
 /// (replayed explorations, explorations) after CrossValidation's own run.
-/// Throws what CrossValidation throws (fewer than 2 explorations of an
-/// object, a method that needs a classifier the factory lacks), and
-/// InvalidArgument naming "method" for fitted weights with fewer than 3
-/// explorations of an object (no inner folds to choose them on).
+/// Throws what CrossValidation throws: InvalidArgument naming "table" for an
+/// object with fewer than 2 explorations with touches, or fewer than 3 when
+/// the method's weights or trimming are chosen in training (inner folds),
+/// and for a method that needs a classifier the factory lacks.
 template <typename Quantizer>
 LiveEvaluationResult evaluate_live_stopping(const TouchTable& table, const ClassifierFactory& factory,
                                             const Quantizer& quantizer, const Method& method,
@@ -638,16 +638,6 @@ LiveEvaluationResult evaluate_live_stopping(const TouchTable& table, const Class
                                             const ProgressCallback& progress = {}) {
   settings.validate();
   const CrossValidationSettings& cvs = settings.cross_validation;
-  if (method.chosen_in_training())
-    for (Index o = 0; o < static_cast<Index>(table.objects.size()); ++o)
-      if (table.explorations_of(o).size() < 3)
-        throw InvalidArgument("method", "'" + method.name + "' has " +
-                                            (method.fit_weights ? "fitted weights" : "alternatives") +
-                                            ", chosen in each fold on inner folds of "
-                                            "its training explorations, so every object needs at least 3 explorations "
-                                            "with touches; '" + table.objects[static_cast<std::size_t>(o)] + "' has " +
-                                            std::to_string(table.explorations_of(o).size()) +
-                                            (method.fit_weights ? " (give fixed weights)" : ""));
   CrossValidation<Quantizer> cv(table, factory, quantizer, {method}, cvs);
   LiveEvaluationResult out;
   out.random_draws = cv.run(cv_progress);
