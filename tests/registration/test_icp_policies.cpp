@@ -77,6 +77,25 @@ TEST_CASE("NaN or Inf anywhere, empty clouds and mismatched dimensions are typed
   CHECK(argument_of([&] { ReferenceCloud<double, 3> r(model, Eigen::Vector3d(1, kNaN, 1)); }) == "weights");
   CHECK(argument_of([&] { ReferenceCloud<double, 3> r(model, Eigen::Vector3d(1, 0, 1)); }) == "weights");
   CHECK(argument_of([&] { ReferenceCloud<double, 3> r(model, Eigen::Vector3d(1, -2, 1)); }) == "weights");
+  // The transform divides by the weights: one whose reciprocal overflows
+  // (it gave an infinite / NaN transform reported as converged), or one the
+  // scalar type cannot hold, is refused.
+  CHECK(argument_of([&] { ReferenceCloud<double, 3> r(model, Eigen::Vector3d(1e-310, 1, 1)); }) == "weights");
+  CHECK(argument_of([&] { ReferenceCloud<float, 3> r(model.cast<float>(), Eigen::Vector3d(1, 1e-40, 1)); }) ==
+        "weights");
+  CHECK(argument_of([&] { ReferenceCloud<float, 3> r(model.cast<float>(), Eigen::Vector3d(1, 1e39, 1)); }) ==
+        "weights");
+
+  // Finite coordinates whose squared distances overflow the scalar type
+  // leave a test point without a neighbour: an error naming the test (it
+  // used to index the model with -1), with either search.
+  const ReferenceCloud<float, 3> fref(model.cast<float>());
+  const ReferenceCloud<float, 3, KdTreeSearch<float, 3>> ftree(model.cast<float>());
+  Eigen::Matrix3Xf far = model.cast<float>();
+  far(0, 4) = 3e19f;
+  CHECK(argument_of([&] { (void)Icp<float, 3>().align(fref, far); }) == "test");
+  CHECK(argument_of([&] { (void)Icp<float, 3>().align(ftree, far); }) == "test");
+  CHECK(Icp<double, 3>().align(ref, far.cast<double>()).pairs == 20);  // double has the range
 
   RigidTransform<double, 3> init = RigidTransform<double, 3>::identity();
   init.R(0, 1) = kNaN;
@@ -540,6 +559,9 @@ TEST_CASE("first matches that do not belong to the registration are refused") {
   }
   bad = mine;
   bad[3].squared_distance *= 1.01;
+  CHECK(argument_of([&] { icp.align(ref, test, nullptr, ws, bad); }) == "first_matches");
+  bad = mine;
+  bad[5].squared_distance = std::numeric_limits<double>::infinity();  // its tolerance was infinite too
   CHECK(argument_of([&] { icp.align(ref, test, nullptr, ws, bad); }) == "first_matches");
   // The same matches are accepted, and centroid alignment (which makes the
   // first matching depend on the whole test) refuses them.

@@ -133,6 +133,14 @@ TEST_CASE("bad inputs are typed errors naming the argument") {
     CHECK(e.column() == 2);
   }
   CHECK_THROWS_AS(KdTreeSearch<double>(Cloud<double, Eigen::Dynamic>::Zero(2, 3), {0}), InvalidArgument);
+  // An Eigen query of another length than the cloud's points is refused
+  // (it used to be read past its end).
+  const Cloud<double, Eigen::Dynamic> pts = Cloud<double, Eigen::Dynamic>::Zero(3, 5);
+  const Eigen::Vector2d short_query(1, 2);
+  CHECK_THROWS_AS(KdTreeSearch<double>(pts).nearest(short_query), DimensionMismatch);
+  CHECK_THROWS_AS(BruteForceSearch<double>(pts).nearest(short_query), DimensionMismatch);
+  CHECK_THROWS_AS(AdaptiveSearch<double>(pts).nearest(short_query), DimensionMismatch);
+  CHECK(AdaptiveSearch<double>(pts).nearest(Eigen::Vector3d(0, 0, 0)).index == 0);
 }
 
 TEST_CASE_TEMPLATE_DEFINE("copies share the points and stay valid after the original is gone", S, copies_share) {

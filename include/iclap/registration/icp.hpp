@@ -309,6 +309,14 @@ class Icp {
         (void)hints;
         nb = search.nearest(y.data());
       }
+      // A search answers "no neighbour" when every squared distance
+      // overflows: the coordinates (times the weights) are beyond what the
+      // scalar type can square.
+      if (nb.index < 0)
+        throw InvalidArgument("test", "point " + std::to_string(i) +
+                                          " has no finite squared distance to any reference point: the coordinates "
+                                          "(times the weights) overflow the scalar type when squared; rescale them "
+                                          "or use double");
       pairs[static_cast<std::size_t>(i)] = {i, nb.index, nb.squared_distance};
       all += static_cast<Acc>(nb.squared_distance);
     }
@@ -328,7 +336,7 @@ class Icp {
     const Scalar actual = detail::squared_distance<Dim>(y.data(), M.col(nb.index).data(), M.rows());
     const Scalar tolerance =
         Scalar(64) * std::numeric_limits<Scalar>::epsilon() * std::max(actual, nb.squared_distance);
-    if (!(std::abs(actual - nb.squared_distance) <= tolerance))
+    if (!std::isfinite(nb.squared_distance) || !(std::abs(actual - nb.squared_distance) <= tolerance))
       throw InvalidArgument("first_matches", where() + "gives squared distance " + std::to_string(nb.squared_distance) +
                                                  " to reference point " + std::to_string(nb.index) + ", which is at " +
                                                  std::to_string(actual) +
@@ -366,7 +374,9 @@ class Icp {
 /// never increases from one step to the next (the closed-form update
 /// minimises E over the kept pairs, and each point's new match is at least
 /// as close; with trimming, the closest pairs after matching sum to no more
-/// than the previously kept ones now do), which pruning schedules rely on.
+/// than the previously kept ones now do), which pruning schedules rely on;
+/// "never" is up to rounding (a few ulps: trimming sums the kept pairs in a
+/// different order each step).
 template <typename Scalar, int Dim, typename Model, typename Rejector, typename Termination>
 template <typename Search>
 class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <utility>
 
@@ -61,10 +62,17 @@ class ReferenceCloud {
     check_finite(points, "points");
     check_dimension(weights.size(), points.rows(), "weights");
     check_finite(weights, "weights");
-    for (Index k = 0; k < weights.size(); ++k)
+    for (Index k = 0; k < weights.size(); ++k) {
       if (!(weights(k) > 0))
         throw InvalidArgument("weights", "must be > 0, got " + std::to_string(static_cast<double>(weights(k))) +
                                              " for coordinate " + std::to_string(k));
+      // The transform divides by the weights (undoing the weighting).
+      const auto w = static_cast<Scalar>(weights(k));
+      if (!std::isfinite(w) || !std::isfinite(Acc(1) / static_cast<Acc>(w)))
+        throw InvalidArgument("weights", "weight " + std::to_string(static_cast<double>(weights(k))) +
+                                             " of coordinate " + std::to_string(k) +
+                                             " is out of the scalar type's range (it or its reciprocal overflows)");
+    }
     weights_ = weights.template cast<Scalar>();
     centroid_ = centroid_of(points);
     CloudType work(points.rows(), points.cols());

@@ -81,8 +81,11 @@ class AdaptiveSearch {
     return tree_ ? kdtree_.nearest(query, hint) : brute_.nearest(query);
   }
 
+  /// The same for an Eigen vector; DimensionMismatch naming "query" unless
+  /// its length is `dim()`.
   template <typename Derived>
   Neighbor<Scalar> nearest(const Eigen::MatrixBase<Derived>& query) const {
+    if (dim() > 0) check_dimension(query.size(), dim(), "query");
     const Point<Scalar, Dim> q = query;
     return nearest(q.data());
   }

@@ -3,6 +3,7 @@
 
 #include <memory>
 
+#include "iclap/core/check.hpp"
 #include "iclap/core/types.hpp"
 #include "iclap/search/neighbor.hpp"
 
@@ -28,9 +29,11 @@ class SharedCloudSearch {
   }
 
   /// The closest point to an Eigen vector of length `dim()`, ties to the
-  /// smaller index.
+  /// smaller index. DimensionMismatch naming "query" for another length
+  /// (the search over an empty cloud answers index -1 to any query).
   template <typename Derived>
   Neighbor<Scalar> nearest(const Eigen::MatrixBase<Derived>& query) const {
+    if (block_) check_dimension(query.size(), dim(), "query");
     const Point<Scalar, Dim> q = query;
     return static_cast<const Search&>(*this).nearest(q.data());
   }
