@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <stdexcept>
@@ -18,6 +19,7 @@
 #include "iclap/core/progress.hpp"
 #include "iclap/core/random.hpp"
 #include "iclap/io/atomic_file.hpp"
+#include "../support/file_size_limit.hpp"
 
 using namespace iclap;
 
@@ -88,34 +90,64 @@ TEST_CASE("checks name the argument and the location") {
   CHECK(std::string(pe.what()) == "data.csv:12: negative pressure");
 }
 
+namespace {
+// Names in the current directory that start with `prefix`.
+std::vector<std::string> files_starting_with(const std::string& prefix) {
+  std::vector<std::string> out;
+  for (const auto& e : std::filesystem::directory_iterator("."))
+    if (e.path().filename().string().rfind(prefix, 0) == 0) out.push_back(e.path().filename().string());
+  return out;
+}
+std::string slurp_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+}  // namespace
+
 TEST_CASE("AtomicFileWriter: all or nothing") {
   const std::string path = "iclap_test_atomic.txt";
   std::remove(path.c_str());
+  // A file that happens to be named like the old fixed temporary survives.
+  std::ofstream(path + ".partial") << "precious\n";
   {
     AtomicFileWriter w(path);
     w.stream() << "half";
+    CHECK(w.temporary_path().rfind(path + ".partial-", 0) == 0);
+    CHECK(std::ifstream(w.temporary_path()).good());
     // destroyed without commit: nothing appears
   }
   CHECK(!std::ifstream(path).good());
-  CHECK(!std::ifstream(path + ".partial").good());
+  CHECK(files_starting_with(path) == std::vector<std::string>{path + ".partial"});
   {
     AtomicFileWriter w(path);
+    AtomicFileWriter second(path);  // two writers, two temporaries
+    CHECK(w.temporary_path() != second.temporary_path());
     w.stream() << "complete\n";
     w.commit();
   }
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  CHECK(ss.str() == "complete\n");
+  CHECK(slurp_file(path) == "complete\n");
   {
     AtomicFileWriter w(path);
     w.stream() << "replacement that fails";
   }
-  std::ifstream again(path);
-  std::stringstream ss2;
-  ss2 << again.rdbuf();
-  CHECK(ss2.str() == "complete\n");  // the old file is untouched
+  CHECK(slurp_file(path) == "complete\n");  // the old file is untouched
+  {
+    // A write that fails part-way (file size limit, as on a full disk):
+    // WriteError, the old file untouched, no temporary left.
+    AtomicFileWriter w(path);
+    test::FileSizeLimit limit(4096);
+    REQUIRE(limit.ok());
+    w.stream() << std::string(1 << 16, 'x');
+    CHECK_THROWS_AS(w.commit(), WriteError);
+  }
+  REQUIRE(slurp_file(path).size() < 100);  // not the 64 KiB of x (which doctest would print)
+  CHECK(slurp_file(path) == "complete\n");
+  CHECK(files_starting_with(path).size() == 2);
+  CHECK(slurp_file(path + ".partial") == "precious\n");
   std::remove(path.c_str());
+  std::remove((path + ".partial").c_str());
   CHECK_THROWS_AS(AtomicFileWriter("/nonexistent-dir/x.txt"), IoError);
 }
 

@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -18,6 +19,8 @@
 
 #include "iclap/core/random.hpp"
 #include "iclap/data/data.hpp"
+#include "../support/file_size_limit.hpp"
+#include "../support/temporaries.hpp"
 
 namespace {
 
@@ -186,7 +189,7 @@ TEST_CASE("dataset csv: file round trip goes through an atomic write") {
   const Dataset ds = awkward_dataset(true, true);
   const std::string path = dir.file("out.csv");
   iclap::write_dataset_csv(path, ds);
-  CHECK_FALSE(fs::exists(path + ".partial"));
+  CHECK_FALSE(iclap::test::temporary_left_beside(path));
   check_identical(ds, iclap::read_dataset_csv(path));
 
   // An invalid dataset writes nothing and leaves the old file as it was.
@@ -195,7 +198,7 @@ TEST_CASE("dataset csv: file round trip goes through an atomic write") {
   bad.frames[17].object = "a,b";
   CHECK_THROWS_AS(iclap::write_dataset_csv(path, bad), iclap::InvalidArgument);
   CHECK(slurp(path) == before);
-  CHECK_FALSE(fs::exists(path + ".partial"));
+  CHECK_FALSE(iclap::test::temporary_left_beside(path));
 }
 
 TEST_CASE("dataset csv: writer rejects invalid datasets naming the field") {
@@ -219,6 +222,9 @@ TEST_CASE("dataset csv: writer rejects invalid datasets naming the field") {
   d = ds;
   d.frames[5].pressures(0, 0) = std::numeric_limits<double>::quiet_NaN();
   rejects(d, "dataset.frames[5].pressures");
+  Dataset oriented = awkward_dataset(true, true);
+  oriented.frames[6].orientation->coeffs() *= 1.01;
+  rejects(oriented, "dataset.frames[6].orientation");
   d = ds;
   d.frames[6].pressures.resize(2, 2);
   rejects(d, "dataset.frames[6].pressures");
@@ -334,6 +340,26 @@ TEST_CASE("dataset csv: every malformed case of the spec is rejected with its li
   check_rejected("# only a comment\n", 1, "no header row");
   // A comment the writer could not write back (a lone carriage return).
   check_rejected("# fine\n# half\rline\n" + h, 2, "carriage return");
+  // Line breaks are \n or \r\n; a stray carriage return in the header or a
+  // row would end up inside its last field (a column 'p0_1\r' lost to the
+  // unknown-column warning), and a file with \r line breaks is one line.
+  std::string crcr = h;
+  crcr.insert(crcr.size() - 1, "\r\r");
+  check_rejected(crcr + ok, 1, "carriage return inside the line");
+  std::string row_cr = ok;
+  row_cr.insert(row_cr.size() - 1, "\r\r");
+  check_rejected(h + row_cr, 2, "carriage return inside the line");
+  std::string cr_only = h + ok;
+  std::replace(cr_only.begin(), cr_only.end(), '\n', '\r');
+  check_rejected(cr_only, 1, "carriage return inside the line");
+  check_rejected(h + "a,0,0,0.1,0.2,1e-400,1,2,3,4\n", 2, "column 'z'");
+  // The pad orientation is a unit quaternion (spec); 4 significant digits
+  // are enough, a zero or scaled quaternion is refused.
+  const std::string hq = "object,exploration,frame,x,y,z,qw,qx,qy,qz,p0_0\n";
+  CHECK(read_text(hq + "a,0,0,0,0,0,0.7071,0.7071,0,0,5\n").frames.size() == 1);
+  check_rejected(hq + "a,0,0,0,0,0,1,0,0,0,5\na,0,1,0,0,0,0,0,0,0,5\n", 3,
+                 "columns qw,qx,qy,qz: the quaternion has norm 0; the pad orientation must be a unit quaternion");
+  check_rejected(hq + "a,0,0,0,0,0,2,0,0,0,5\n", 2, "has norm 2;");
   check_rejected("", 0, "no header row");
 }
 
@@ -440,6 +466,64 @@ TEST_CASE("dataset csv appender: create, append, reopen, mismatched header, comp
     CHECK_MESSAGE(e.reason().find("missing 'p3_0'") != std::string::npos, e.what());
   }
   CHECK(slurp(path) == before);
+
+  // A mismatched header is refused before a partial last row is cut off:
+  // a file the appender refuses is not changed at all.
+  std::ofstream(path, std::ios::binary | std::ios::app) << "pliers_1,0,0,0.1";
+  const std::string with_partial = slurp(path);
+  CHECK_THROWS_AS(iclap::DatasetCsvAppender(path, ds.rows, ds.cols, false, true), iclap::ParseError);
+  CHECK(slurp(path) == with_partial);
+  {
+    iclap::DatasetCsvAppender app(path, columns);
+    CHECK(app.recovered_bytes() == std::string("pliers_1,0,0,0.1").size());
+  }
+  CHECK(slurp(path) == before);
+
+  // A last line with every field but no line break may be a whole row (or
+  // one cut in its last number): refused, naming the line, file unchanged.
+  const std::string whole_row = whole.str().substr(whole.str().rfind('\n', whole.str().size() - 2) + 1);
+  const std::string unterminated = before + whole_row.substr(0, whole_row.size() - 1);
+  spit(path, unterminated);
+  try {
+    iclap::DatasetCsvAppender app(path, columns);
+    FAIL("accepted");
+  } catch (const iclap::ParseError& e) {
+    CHECK(e.file() == path);
+    CHECK(e.line() == ds.comments.size() + 1 + ds.frames.size() + 1);
+    CHECK_MESSAGE(e.reason().find("but no line break") != std::string::npos, e.what());
+  }
+  CHECK(slurp(path) == unterminated);
+  spit(path, before);
+}
+
+TEST_CASE("dataset csv appender: a failed write leaves complete rows only") {
+  TempDir dir("appender_full");
+  const std::string path = dir.file("log.csv");
+  const Dataset ds = awkward_dataset(true, true);
+  std::size_t written = 0;
+  {
+    iclap::DatasetCsvAppender app(path, ds.rows, ds.cols, true, true, ds.comments);
+    const auto size = std::filesystem::file_size(path);
+    iclap::test::FileSizeLimit limit(size + 150);  // room for a row or two
+    REQUIRE(limit.ok());
+    bool failed = false;
+    for (const auto& f : ds.frames) {
+      try {
+        app.append(f);
+        ++written;
+      } catch (const iclap::WriteError& e) {
+        CHECK_MESSAGE(std::string(e.what()).find("cut back to its last complete row") != std::string::npos, e.what());
+        failed = true;
+        break;
+      }
+    }
+    REQUIRE(failed);
+    CHECK_THROWS_AS(app.append(ds.frames[0]), iclap::WriteError);  // closed
+  }
+  REQUIRE(written < ds.frames.size());
+  const std::string text = slurp(path);
+  CHECK(text.back() == '\n');
+  CHECK(iclap::read_dataset_csv(path).frames.size() == written);
 }
 
 TEST_CASE("dataset csv appender: foreign column order and an empty file") {

@@ -15,6 +15,7 @@
 #include "iclap/core/random.hpp"
 #include "iclap/data/ply_cloud.hpp"
 #include "iclap/mesh/ply.hpp"
+#include "../support/temporaries.hpp"
 
 namespace {
 
@@ -113,7 +114,7 @@ TEST_CASE("labeled cloud ply: bad input is rejected and writes nothing") {
   CHECK_THROWS_AS(iclap::write_labeled_cloud_ply(path, p, std::vector<long long>{1, 1LL << 40}),
                   iclap::InvalidArgument);
   CHECK_FALSE(fs::exists(path));
-  CHECK_FALSE(fs::exists(path + ".partial"));
+  CHECK_FALSE(iclap::test::temporary_left_beside(path));
 }
 
 TEST_CASE("labeled cloud ply: reads back with a PLY reader (ascii exact, binary float)") {

@@ -51,6 +51,11 @@ TEST_CASE("point files: every malformed case names the file and the line") {
   CHECK(error_of("# nothing\n\n") == "pts.txt:2: no points in the file");
   CHECK(error_of("x y z\n") == "pts.txt:1: no points in the file");
   CHECK(error_of("1 2\n3 4\n5 6 7e\n") == "pts.txt:3: '7e' in column 3 is not a number");
+  // A number out of a double's range is an error, not a header line that
+  // would silently drop the first point; "+-1" is no number either.
+  CHECK(error_of("1e-400 0 0\n1 0 0\n") == "pts.txt:1: '1e-400' in column 1 is out of the range of a double");
+  CHECK(error_of("x y z\n1 1e999 0\n") == "pts.txt:2: '1e999' in column 2 is out of the range of a double");
+  CHECK(error_of("1 2\n+-1 2\n") == "pts.txt:2: '+-1' in column 1 is not a number");
   // Only the first line may be a header.
   CHECK(error_of("a b\nc d\n") == "pts.txt:2: 'c' in column 1 is not a number");
   CHECK_THROWS_AS(read_point_file("/nonexistent/points.txt"), IoError);

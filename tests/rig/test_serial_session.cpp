@@ -316,6 +316,15 @@ TEST_CASE("Pose specs") {
   }
   CHECK_FALSE(replay->next());
   CHECK(replay->description().find("3 poses") != std::string::npos);
+  // A quaternion printed with 4 digits (norm 0.99999), which the dataset
+  // reader accepts, is replayed normalised instead of refused.
+  iclap::Dataset four = d;
+  four.frames[1].orientation = Eigen::Quaterniond(0.7071, 0.7071, 0, 0);
+  const std::string four_file = temp_path("poses4.csv");
+  iclap::write_dataset_csv(four_file, four);
+  auto replay4 = make_pose_source("replay:" + four_file);
+  replay4->next();
+  CHECK(std::abs(replay4->next()->orientation->norm() - 1.0) < 1e-12);
 
   DatasetFrameSource frames(d, file);
   CHECK(frames.grid() == Grid{2, 1});

@@ -106,4 +106,13 @@ class IoError : public Error {
   std::string path_;
 };
 
+/// Writing output failed part-way (disk full, file size limit, device
+/// gone): not a problem of the input, unlike a file that cannot be opened.
+/// The writer that throws it says what it left behind (the library's
+/// writers leave nothing partial).
+class WriteError : public IoError {
+ public:
+  using IoError::IoError;
+};
+
 }  // namespace iclap

@@ -5,6 +5,7 @@
 // log frames as they arrive (the rig recorder).
 
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -31,15 +32,23 @@ namespace iclap {
 /// header must have exactly the columns of `columns` (in any order; rows are
 /// then written in the file's column order) or the constructor throws
 /// ParseError naming the file and the header line; `comments` are not written
-/// again. A trailing partial row (the file does not end with a line break,
-/// e.g. after a power loss mid-write) is cut off and its size reported by
-/// `recovered_bytes()`, so the file is always a sequence of complete rows.
+/// again. The header is checked before anything is changed. A trailing
+/// partial row (the file does not end with a line break and its last line
+/// has fewer fields than the header, e.g. after a power loss mid-write) is
+/// cut off and its size reported by `recovered_bytes()`, so the file is
+/// always a sequence of complete rows. A last line without a line break that
+/// has all the header's fields (or more) may be a whole row written by
+/// another program or one cut inside its last number: the constructor
+/// refuses it (ParseError naming the line) rather than guess, and changes
+/// nothing.
 ///
 /// Writing: `append` validates the frame first (InvalidArgument, nothing
 /// written), formats the whole row, writes it with one buffered write and
 /// flushes it to the operating system, so a crash of the process loses at
 /// most the row in flight. `sync()` additionally asks the OS to put it on
-/// disk. After a failed write (IoError) the appender refuses further rows.
+/// disk. A write that fails (WriteError: disk full, file size limit) closes
+/// the appender and cuts the file back to its last complete row; further
+/// rows are refused.
 ///
 /// Not thread-safe; one appender per file. Move-only.
 class DatasetCsvAppender {
@@ -61,6 +70,10 @@ class DatasetCsvAppender {
     }
     file_ = std::fopen(path_.c_str(), "ab");
     if (!file_) throw IoError(path_, std::string("cannot open for appending: ") + std::strerror(errno));
+    if (exists && !empty) {
+      size_ = static_cast<std::uintmax_t>(std::filesystem::file_size(path_, ec));
+      if (ec) throw IoError(path_, "cannot read its size: " + ec.message());
+    }
     // One buffer larger than any row: each row leaves in a single write().
     std::setvbuf(file_, nullptr, _IOFBF, 1 << 16);
     if (!exists || empty) write_and_flush(detail::header_text(comments, columns_));
@@ -80,6 +93,7 @@ class DatasetCsvAppender {
         file_(std::exchange(o.file_, nullptr)),
         rows_in_file_(o.rows_in_file_),
         recovered_bytes_(o.recovered_bytes_),
+        size_(o.size_),
         failed_(o.failed_) {}
   DatasetCsvAppender& operator=(DatasetCsvAppender&&) = delete;
   DatasetCsvAppender(const DatasetCsvAppender&) = delete;
@@ -95,7 +109,7 @@ class DatasetCsvAppender {
   /// name without commas or quotes): InvalidArgument otherwise, and nothing
   /// is written. IoError if the write fails.
   void append(const Frame& f) {
-    if (failed_) throw IoError(path_, "an earlier write failed; the appender is closed");
+    if (failed_) throw WriteError(path_, "an earlier write failed; the appender is closed");
     detail::validate_frame(f, columns_, "frame");
     row_.clear();
     detail::append_row(row_, f, slots_);
@@ -109,7 +123,7 @@ class DatasetCsvAppender {
   void sync() {
     if (!file_ || fsync_file()) return;
     failed_ = true;
-    throw IoError(path_, std::string("fsync failed: ") + std::strerror(errno));
+    throw WriteError(path_, std::string("fsync failed: ") + std::strerror(errno));
   }
 
   const std::string& path() const noexcept { return path_; }
@@ -120,9 +134,9 @@ class DatasetCsvAppender {
   std::size_t recovered_bytes() const noexcept { return recovered_bytes_; }
 
  private:
-  // Reads the existing file's header, checks it and counts its rows; cuts off
-  // a trailing partial row. Returns true if the (complete) header line is the
-  // last thing in the file and lacks its line break.
+  // Reads the existing file's header, checks it and counts its rows; then
+  // (and only then) cuts off a trailing partial row. Returns true if the
+  // file's last line is the (complete) header, which lacks its line break.
   bool open_existing() {
     std::string text;
     {
@@ -136,7 +150,8 @@ class DatasetCsvAppender {
     if (view.size() >= 3 && view.substr(0, 3) == "\xEF\xBB\xBF") offset = 3;
     std::size_t pos = offset, line_no = 0, header_line = 0;
     std::size_t header_end = 0;  // offset just past the header line
-    std::string_view header;
+    std::string_view header, unterminated;
+    std::size_t unterminated_start = 0;
     while (pos < view.size()) {
       std::size_t end = view.find('\n', pos);
       const bool terminated = end != std::string_view::npos;
@@ -153,18 +168,32 @@ class DatasetCsvAppender {
         header_end = pos;
         continue;
       }
-      if (!terminated) {  // a partial last row: cut it off
-        recovered_bytes_ = view.size() - line_start;
-        std::error_code ec;
-        std::filesystem::resize_file(path_, line_start, ec);
-        if (ec) throw IoError(path_, "cannot cut off a partial last row: " + ec.message());
-        break;
+      if (!terminated) {
+        unterminated = line;
+        unterminated_start = line_start;
+      } else if (!detail::trim_ascii(line).empty()) {
+        ++rows_in_file_;
       }
-      if (!detail::trim_ascii(line).empty()) ++rows_in_file_;
     }
     if (header_line == 0)
       throw ParseError(path_, line_no, "existing file has no header row; cannot append to it");
     check_header(header, header_line);
+    if (unterminated_start > 0) {
+      std::vector<std::string_view> fields, header_fields;
+      detail::split_fields(unterminated, fields);
+      detail::split_fields(header, header_fields);
+      if (!detail::trim_ascii(unterminated).empty() && fields.size() >= header_fields.size())
+        throw ParseError(path_, line_no,
+                         "the last row has " + std::to_string(fields.size()) + " fields (the header has " +
+                             std::to_string(header_fields.size()) +
+                             ") but no line break: a whole row or one cut inside its last value; end it with a "
+                             "line break or remove it before appending");
+      // Fewer fields than the header: a row cut off mid-write.
+      recovered_bytes_ = view.size() - unterminated_start;
+      std::error_code ec;
+      std::filesystem::resize_file(path_, unterminated_start, ec);
+      if (ec) throw IoError(path_, "cannot cut off a partial last row: " + ec.message());
+    }
     return header_end == view.size() && (view.empty() || view.back() != '\n');
   }
 
@@ -206,12 +235,24 @@ class DatasetCsvAppender {
     }
   }
 
+  // Writes and flushes `text`. On failure closes the file (dropping what is
+  // still buffered) and cuts it back to `size_`, the end of the last
+  // complete write, so no partial row stays behind.
   void write_and_flush(const std::string& text) {
     const std::size_t n = std::fwrite(text.data(), 1, text.size(), file_);
-    if (n != text.size() || std::fflush(file_) != 0) {
-      failed_ = true;
-      throw IoError(path_, std::string("write failed: ") + std::strerror(errno));
+    if (n == text.size() && std::fflush(file_) == 0) {
+      size_ += text.size();
+      return;
     }
+    const int err = errno;
+    failed_ = true;
+    std::fclose(file_);
+    file_ = nullptr;
+    std::error_code ec;
+    std::filesystem::resize_file(path_, size_, ec);
+    throw WriteError(path_, std::string("write failed: ") + std::strerror(err) +
+                                (ec ? "; cutting the partial row off failed too: " + ec.message()
+                                    : "; the file was cut back to its last complete row"));
   }
 
   bool fsync_file();
@@ -223,6 +264,7 @@ class DatasetCsvAppender {
   std::string row_;
   std::size_t rows_in_file_ = 0;
   std::size_t recovered_bytes_ = 0;
+  std::uintmax_t size_ = 0;  // bytes in the file after the last complete write
   bool failed_ = false;
 };
 

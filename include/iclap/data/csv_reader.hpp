@@ -110,6 +110,10 @@ inline Dataset parse_dataset_csv(std::string_view text, const std::string& name,
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     pos = end + 1;
     ++line_no;
+    // Lines end with \n or \r\n; another carriage return (a file with \r
+    // line breaks, or \r\r\n) would otherwise end up inside a field.
+    if (line.find('\r') != std::string_view::npos)
+      throw ParseError(name, line_no, "carriage return inside the line (line breaks must be \\n or \\r\\n)");
     return true;
   };
 
@@ -121,9 +125,6 @@ inline Dataset parse_dataset_csv(std::string_view text, const std::string& name,
     if (line.front() == '#') {
       line.remove_prefix(1);
       if (!line.empty() && line.front() == ' ') line.remove_prefix(1);
-      // The writer cannot write such a comment back, so it is not accepted.
-      if (line.find('\r') != std::string_view::npos)
-        throw ParseError(name, line_no, "comment contains a carriage return inside the line");
       ds.comments.emplace_back(line);
       continue;
     }
@@ -247,6 +248,8 @@ inline Dataset parse_dataset_csv(std::string_view text, const std::string& name,
     if (has_q) {
       const double w = finite(i_qw), x = finite(i_qx), y = finite(i_qy), z = finite(i_qz);
       f.orientation = Eigen::Quaterniond(w, x, y, z);
+      const std::string q = quaternion_problem(*f.orientation);
+      if (!q.empty()) throw ParseError(name, line_no, "columns qw,qx,qy,qz: the quaternion " + q);
     }
     f.pressures.resize(rows, cols);
     for (const auto& tc : taxel_cols) {

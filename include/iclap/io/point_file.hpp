@@ -74,9 +74,12 @@ inline Eigen::MatrixXd read_point_file(std::istream& in, const std::string& name
       const std::string& tok = tokens[k];
       const char* begin = tok.c_str();
       const char* end = begin + tok.size();
-      if (*begin == '+') ++begin;
+      if (*begin == '+' && begin + 1 != end && begin[1] != '-') ++begin;
       double v = 0;
       const auto res = std::from_chars(begin, end, v);
+      // A number too large or too small for a double is no header word.
+      if (res.ec == std::errc::result_out_of_range && res.ptr == end)
+        throw ParseError(name, line_no, "'" + tok + "' in column " + std::to_string(k + 1) + " is out of the range of a double");
       if (res.ec != std::errc() || res.ptr != end) {
         bad_token = tok;
         bad_column = k + 1;

@@ -103,7 +103,11 @@ class ReplayPoseSource final : public PoseSource {
   static ReplayPoseSource from_dataset(const Dataset& dataset, const std::string& name) {
     std::vector<Pose> poses;
     poses.reserve(dataset.frames.size());
-    for (const auto& f : dataset.frames) poses.push_back(Pose{f.position, f.orientation});
+    // The reader accepts quaternions within 1e-3 of unit norm (4 printed
+    // digits); poses are unit to 1e-6, so they are normalised here.
+    for (const auto& f : dataset.frames)
+      poses.push_back(Pose{f.position, f.orientation ? std::optional<Eigen::Quaterniond>(f.orientation->normalized())
+                                                     : std::nullopt});
     if (poses.empty()) throw EmptyInput(name, "has no frames to replay poses from");
     return ReplayPoseSource(std::move(poses), "replay of " + name);
   }
