@@ -99,7 +99,11 @@ class Options {
         if (!has_value) {
           if (i + 1 >= args.size()) throw UsageError("option --" + name + " needs a value");
           value = args[++i];
+          // No value starts with "--": `--k --out DIR` forgot the value of --k.
+          if (value.size() > 2 && value.compare(0, 2, "--") == 0)
+            throw UsageError("option --" + name + " needs a value (got the option '" + value + "')");
         }
+        if (value.empty()) throw UsageError("option --" + name + ": empty value");
         values_[name] = value;
       } else {
         throw UsageError("unknown option --" + name);

@@ -3,7 +3,10 @@
 // `iclap evaluate [FILE.csv]`: the paper's recognition experiment (Section
 // VI), the project's main job.
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -69,11 +72,13 @@ const std::string kUsage = std::string(
     "  --seed S                seed of the touch draws and the codebook (default 1)\n"
     "  --normalization l2|minmax|zscore   distance normalisation (default l2, the paper's)\n"
     "  --threads N             worker threads (default 0: all cores); results do not depend on it\n"
-    "  --out DIR               output directory (default results)\n"
+    "  --out DIR               output directory (default results); the files are moved\n"
+    "                          into it only once all of them are written\n"
     "  --sim-seed S            seed of the built-in simulation (default 1)\n"
     "  --export-ply            also write each object's reference cloud (all its touches,\n"
     "                          label = word of a codebook fitted on all touches) as\n"
-    "                          DIR/references/OBJECT.ply\n") +
+    "                          DIR/references/OBJECT.ply (bytes other than letters,\n"
+    "                          digits, - and _ written as %XX)\n") +
     RecognitionOptions::usage();
 
 std::vector<int> parse_touches(const std::string& text) {
@@ -328,6 +333,81 @@ void write_tables(const fs::path& out, const CrossValidationResult& r) {
   write_file(out / "sweeps.csv", sweeps);
 }
 
+// An object name as a file name, one to one: letters, digits, '-' and '_'
+// stay, every other byte becomes %XX ("a b" -> "a%20b", "a%b" -> "a%25b"),
+// so distinct objects never share a file.
+std::string file_name_of(const std::string& object) {
+  static const char* hex = "0123456789ABCDEF";
+  std::string out;
+  for (char c : object) {
+    const auto u = static_cast<unsigned char>(c);
+    if (std::isalnum(u) || c == '-' || c == '_') {
+      out += c;
+    } else {
+      out += '%';
+      out += hex[u >> 4];
+      out += hex[u & 15];
+    }
+  }
+  return out;
+}
+
+// Writes a run's output files all or nothing: they go to a new directory
+// beside OUT (OUT.partial-PID-N) first; commit() moves them into OUT
+// (created if missing; its other files are kept), each with one rename.
+// Destroyed without a commit (a write failed), it removes that directory, so
+// a failed run leaves OUT as it was.
+class StagedOutput {
+ public:
+  explicit StagedOutput(fs::path out) : out_(std::move(out)) {
+    if (out_.filename().empty()) out_ = out_.parent_path();  // "results/" -> "results"
+    for (int n = 0;; ++n) {
+      stage_ = out_;
+      stage_ += ".partial-" + std::to_string(::getpid()) + "-" + std::to_string(n);
+      std::error_code ec;
+      if (fs::create_directory(stage_, ec)) break;
+      if (ec || n == 100) throw IoError(stage_.string(), "cannot create the output directory: " + ec.message());
+    }
+  }
+  StagedOutput(const StagedOutput&) = delete;
+  StagedOutput& operator=(const StagedOutput&) = delete;
+  ~StagedOutput() {
+    std::error_code ec;
+    if (!committed_) fs::remove_all(stage_, ec);
+  }
+
+  /// Runs `write(dir)`, which writes the files into `dir`; a WriteError it
+  /// throws is thrown again naming the file's place in OUT.
+  template <typename F>
+  void write(F&& write) const {
+    try {
+      write(stage_);
+    } catch (const WriteError& e) {
+      throw WriteError((out_ / fs::path(e.path()).lexically_relative(stage_)).string(),
+                       "write failed; " + out_.string() + " was left as it was");
+    }
+  }
+
+  void commit() {
+    std::error_code ec;
+    fs::create_directories(out_, ec);
+    if (ec) throw IoError(out_.string(), "cannot create the output directory: " + ec.message());
+    for (auto it = fs::recursive_directory_iterator(stage_); it != fs::recursive_directory_iterator(); ++it) {
+      if (it->is_directory()) continue;
+      const fs::path target = out_ / fs::relative(it->path(), stage_);
+      fs::create_directories(target.parent_path(), ec);
+      if (!ec) fs::rename(it->path(), target, ec);
+      if (ec) throw IoError(target.string(), "cannot move into place: " + ec.message());
+    }
+    committed_ = true;
+    fs::remove_all(stage_, ec);
+  }
+
+ private:
+  fs::path out_, stage_;
+  bool committed_ = false;
+};
+
 void export_reference_clouds(const fs::path& out, const TouchTable& table, const RecognitionOptions& options) {
   KMeansQuantizer<float> q = make_quantizer(options);
   q.fit(table.touches.features);
@@ -343,9 +423,8 @@ void export_reference_clouds(const fs::path& out, const TouchTable& table, const
       p.col(static_cast<Index>(j)) = table.touches.positions.col(idx[j]);
       labels.push_back(words(idx[j]));
     }
-    std::string safe;
-    for (char c : table.objects[static_cast<std::size_t>(o)]) safe += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
-    write_labeled_cloud_ply((out / "references" / (safe + ".ply")).string(), p, labels);
+    write_labeled_cloud_ply((out / "references" / (file_name_of(table.objects[static_cast<std::size_t>(o)]) + ".ply")).string(),
+                            p, labels);
   }
 }
 
@@ -369,6 +448,11 @@ int run_evaluate(const Args& args) {
   s.threads = static_cast<int>(opt.integer("threads", 0, 0, 4096));
   const std::vector<Method> named = parse_methods(opt.string("methods", "paper"));
   const fs::path out = opt.string("out", "results");
+  {
+    std::error_code ec;
+    if (fs::exists(out, ec) && !fs::is_directory(out, ec))
+      throw UsageError("--out: '" + out.string() + "' exists and is not a directory");
+  }
   const auto sim_seed = static_cast<std::uint64_t>(opt.integer("sim-seed", 1, 0));
 
   const std::vector<std::string> needed = needed_classifiers(named);
@@ -453,13 +537,14 @@ int run_evaluate(const Args& args) {
   if (r.capped_draws) std::printf("note: %zu draws asked for more touches than their exploration had and used all of them\n", r.capped_draws);
   if (r.empty_explorations) std::printf("note: %zu held-out explorations had no touch and were not tested\n", r.empty_explorations);
 
-  std::error_code ec;
-  fs::create_directories(out, ec);
-  if (ec) throw IoError(out.string(), "cannot create the output directory: " + ec.message());
-  write_tables(out, r);
+  StagedOutput staged(out);
   std::vector<std::string> figures;
-  write_figures(out, r, figures);
-  if (opt.flag("export-ply")) export_reference_clouds(out, table, ro);
+  staged.write([&](const fs::path& dir) {
+    write_tables(dir, r);
+    write_figures(dir, r, figures);
+    if (opt.flag("export-ply")) export_reference_clouds(dir, table, ro);
+  });
+  staged.commit();
   std::printf("\nwrote %s: results.csv, weights.csv, confusion.csv, sweeps.csv", out.string().c_str());
   for (const auto& f : figures) std::printf(", %s", f.c_str());
   if (opt.flag("export-ply")) std::printf(", references/*.ply");

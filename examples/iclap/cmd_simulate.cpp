@@ -55,7 +55,7 @@ int run_simulate(const iclap::cli::Args& args) {
   if (out == "-") {
     iclap::write_dataset_csv(std::cout, ds);
     std::cout.flush();
-    if (!std::cout) throw iclap::IoError("<stdout>", "write failed");
+    if (!std::cout) throw iclap::WriteError("<stdout>", "write failed");
   } else {
     iclap::write_dataset_csv(out, ds);
   }

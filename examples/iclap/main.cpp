@@ -5,7 +5,9 @@
 // exceptions into messages and exit statuses.
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <string>
 
@@ -63,7 +65,15 @@ int main(int argc, char** argv) {
     return kExitOk;
   }
   try {
-    return it->run(args);
+    const int status = it->run(args);
+    // What the command printed must have reached its destination (a full
+    // disk behind `> out.json` is a failed run, not a silent success).
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      const int err = errno;
+      std::fprintf(stderr, "iclap %s: <stdout>: write failed: %s\n", name.c_str(), std::strerror(err));
+      return kExitFailure;
+    }
+    return status;
   } catch (const UsageError& e) {
     // The message, then only the synopsis: the whole option list would
     // scroll the message off the terminal.
@@ -76,6 +86,9 @@ int main(int argc, char** argv) {
   } catch (const iclap::InvalidArgument& e) {
     std::fprintf(stderr, "iclap %s: %s\n", name.c_str(), e.what());
     return kExitBadInput;
+  } catch (const iclap::WriteError& e) {  // the input was fine; writing the output failed
+    std::fprintf(stderr, "iclap %s: %s\n", name.c_str(), e.what());
+    return kExitFailure;
   } catch (const iclap::IoError& e) {
     std::fprintf(stderr, "iclap %s: %s\n", name.c_str(), e.what());
     return kExitBadInput;

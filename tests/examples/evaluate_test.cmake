@@ -113,3 +113,43 @@ expect_match("${err}" "two\\.csv: object '[a-z_]+' has 2 explorations with touch
 if(EXISTS ${WORK_DIR}/fitted2)
   message(FATAL_ERROR "a refused evaluate left ${WORK_DIR}/fitted2 behind")
 endif()
+# Output that cannot be written part-way (a file size limit of 2 KiB, as on a
+# full disk; the figures are larger) fails with exit status 1 and leaves the
+# output directory as it was, with no staging directory beside it.
+file(MAKE_DIRECTORY ${WORK_DIR}/full)
+file(WRITE ${WORK_DIR}/full/results.csv "old results\n")
+# (Lines, not semicolons, in the script: run_expect's arguments are a list.)
+run_expect(1 bash -c "trap '' XFSZ\nulimit -f 2\nexec \"$0\" \"$@\"" ${ICLAP} evaluate ${WORK_DIR}/three.csv
+           --touches 1,2 --repeats 2 --weight-repeats 1 --out ${WORK_DIR}/full)
+expect_match("${err}" "full/[a-z_]+\\.(csv|svg): write failed; .*full was left as it was")
+file(READ ${WORK_DIR}/full/results.csv old)
+file(GLOB full_files ${WORK_DIR}/full/*)
+file(GLOB staging ${WORK_DIR}/full.partial*)
+if(NOT old STREQUAL "old results\n" OR NOT full_files STREQUAL "${WORK_DIR}/full/results.csv" OR staging)
+  message(FATAL_ERROR "a failed write changed ${WORK_DIR}/full (${full_files}) or left ${staging}")
+endif()
+# Lost standard output is a failure too.
+if(EXISTS /dev/full)
+  run_expect(1 bash -c "exec \"$0\" \"$@\" > /dev/full" ${ICLAP} info ${WORK_DIR}/three.csv)
+  expect_match("${err}" "<stdout>: write failed")
+endif()
+# Bad --out values are refused before the run.
+file(WRITE ${WORK_DIR}/a_file "x")
+run_expect(2 ${ICLAP} evaluate ${WORK_DIR}/three.csv --out ${WORK_DIR}/a_file)
+expect_match("${err}" "--out: '.*a_file' exists and is not a directory")
+run_expect(2 ${ICLAP} evaluate ${WORK_DIR}/three.csv --out=)  # (CMake drops an empty argument)
+expect_match("${err}" "option --out: empty value")
+run_expect(2 ${ICLAP} evaluate ${WORK_DIR}/three.csv --k --out ${WORK_DIR}/k)
+expect_match("${err}" "option --k needs a value \\(got the option '--out'\\)")
+# Reference clouds of objects whose names differ only in bytes that are not
+# letters or digits get distinct files.
+file(READ ${WORK_DIR}/three.csv text)
+string(REPLACE "\nlong_bar," "\na b," text "${text}")
+string(REPLACE "\nshort_bar," "\na_b," text "${text}")
+file(WRITE ${WORK_DIR}/names.csv "${text}")
+run(${ICLAP} evaluate ${WORK_DIR}/names.csv --methods icp --touches 1 --repeats 1 --export-ply --out ${WORK_DIR}/names)
+foreach(f "a%20b.ply" "a_b.ply")
+  if(NOT EXISTS "${WORK_DIR}/names/references/${f}")
+    message(FATAL_ERROR "--export-ply wrote no references/${f}")
+  endif()
+endforeach()
