@@ -2,6 +2,8 @@
 // Numerical stability of the N-D ICP at the extremes: large offsets, tiny and
 // huge scales, reflections, degenerate geometry, tiny clouds.
 
+#include <type_traits>
+
 #include "icp_test_util.hpp"
 
 using namespace iclap;
@@ -66,6 +68,31 @@ TEST_CASE_TEMPLATE("scales from 1e-6 m to 1e3 m recover the same motion", C, ICL
     CHECK(difference(R0, R1) < eps<S>(400));
     CHECK(difference(t0, t1) < eps<S>(400));
   }
+}
+
+TEST_CASE_TEMPLATE("a cloud too small for the scalar type is refused, not registered to its initial transform", S,
+                   float, double) {
+  // Below sqrt(min normal) / epsilon the squared distances underflow: the
+  // registration stopped at iteration 0 with E = 0, "converged", at the
+  // identity (scale 1e-22 in float, 1e-170 in double).
+  const double too_small = std::is_same_v<S, float> ? 1e-15 : 1e-160;
+  const double fine = std::is_same_v<S, float> ? 1e-11 : 1e-130;
+  using Ref = ReferenceCloud<S, 3>;  // (no comma inside doctest's macros)
+  const Eigen::MatrixXd unit = random_points(3, 40, 7);
+  try {
+    Ref r((too_small * unit).cast<S>());
+    FAIL("accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "points");
+    CHECK_MESSAGE(std::string(e.what()).find("underflow") != std::string::npos, e.what());
+  }
+  // So is a metric that shrinks a cloud that far.
+  CHECK_THROWS_AS(Ref(unit.cast<S>(), Eigen::Vector3d::Constant(too_small)), InvalidArgument);
+  const Ref ok((fine * unit).cast<S>());
+  CHECK(ok.size() == 40);
+  // One point (or identical points) has no scale to lose.
+  using TwoPoints = Eigen::Matrix<S, 3, 2>;
+  CHECK(Ref(TwoPoints::Constant(S(0.5))).size() == 2);
 }
 
 TEST_CASE_TEMPLATE("point sets whose SVD gives det = -1 return a proper rotation", C, ICLAP_EXTREME_CONFIGS) {

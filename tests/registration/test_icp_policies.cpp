@@ -85,6 +85,8 @@ TEST_CASE("NaN or Inf anywhere, empty clouds and mismatched dimensions are typed
         "weights");
   CHECK(argument_of([&] { ReferenceCloud<float, 3> r(model.cast<float>(), Eigen::Vector3d(1, 1e39, 1)); }) ==
         "weights");
+  CHECK(argument_of([&] { ReferenceCloud<float, 3> r(model.cast<float>(), Eigen::Vector3d(1e-30, 1, 1e30)); }) ==
+        "weights");
 
   // Finite coordinates whose squared distances overflow the scalar type
   // leave a test point without a neighbour: an error naming the test (it

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -30,6 +31,11 @@ namespace iclap {
 ///
 /// Centring on the centroid keeps the arithmetic at the object's scale when
 /// the coordinates carry a large offset (a rig far from the world origin).
+/// The scale itself must suit the scalar type: a cloud whose largest
+/// weighted distance from its centroid is below sqrt(min normal) / epsilon
+/// (about 1e-12 in float, 1e-138 in double) is refused, since its squared
+/// distances underflow and a registration would stop at once, "converged"
+/// at its initial transform.
 ///
 /// Immutable after construction; copies share the search structure; const
 /// use is thread-safe.
@@ -53,7 +59,8 @@ class ReferenceCloud {
       : ReferenceCloud(points, Vector::Ones(Dim > 0 ? Index(Dim) : points.rows()), search_settings) {}
 
   /// Weighted metric. Weights must be finite and > 0, one per coordinate
-  /// (errors name `weights`).
+  /// (errors name `weights`). InvalidArgument naming `points` for a cloud
+  /// too small for the scalar type (see above).
   template <typename Derived, typename WeightsDerived>
   ReferenceCloud(const Eigen::MatrixBase<Derived>& points, const Eigen::MatrixBase<WeightsDerived>& weights,
                  const typename Search::Settings& search_settings = {}) {
@@ -64,22 +71,37 @@ class ReferenceCloud {
     check_finite(weights, "weights");
     for (Index k = 0; k < weights.size(); ++k) {
       if (!(weights(k) > 0))
-        throw InvalidArgument("weights", "must be > 0, got " + std::to_string(static_cast<double>(weights(k))) +
+        throw InvalidArgument("weights", "must be > 0, got " + format_value(static_cast<double>(weights(k))) +
                                              " for coordinate " + std::to_string(k));
       // The transform divides by the weights (undoing the weighting).
       const auto w = static_cast<Scalar>(weights(k));
-      if (!std::isfinite(w) || !std::isfinite(Acc(1) / static_cast<Acc>(w)))
-        throw InvalidArgument("weights", "weight " + std::to_string(static_cast<double>(weights(k))) +
+      if (!std::isfinite(w) || !(w >= std::numeric_limits<Scalar>::min()) || !std::isfinite(Scalar(1) / w))
+        throw InvalidArgument("weights", "weight " + format_value(static_cast<double>(weights(k))) +
                                              " of coordinate " + std::to_string(k) +
-                                             " is out of the scalar type's range (it or its reciprocal overflows)");
+                                             " is out of the scalar type's range (subnormal, or it or its "
+                                             "reciprocal overflows)");
     }
     weights_ = weights.template cast<Scalar>();
+    // The transform holds ratios w_j / w_i of the weights (W^-1 R_w W).
+    const Acc ratio = static_cast<Acc>(weights_.maxCoeff()) / static_cast<Acc>(weights_.minCoeff());
+    if (!std::isfinite(static_cast<Scalar>(ratio)))
+      throw InvalidArgument("weights", "the largest weight is " + format_value(static_cast<double>(ratio)) +
+                                           " times the smallest, beyond the scalar type's range");
     centroid_ = centroid_of(points);
     CloudType work(points.rows(), points.cols());
     const Point<Acc, Dim> c = centroid_acc_;
     const Point<Acc, Dim> w = weights_.template cast<Acc>();
     for (Index j = 0; j < points.cols(); ++j)
       work.col(j) = (w.cwiseProduct(points.col(j).template cast<Acc>() - c)).template cast<Scalar>();
+    const Acc spread = static_cast<Acc>(work.cwiseAbs().maxCoeff());
+    const Acc smallest = std::sqrt(static_cast<Acc>(std::numeric_limits<Scalar>::min())) /
+                         static_cast<Acc>(std::numeric_limits<Scalar>::epsilon());
+    if (spread > 0 && spread < smallest)
+      throw InvalidArgument("points", "largest weighted distance from the centroid is " +
+                                          format_value(static_cast<double>(spread)) + ", below " +
+                                          format_value(static_cast<double>(smallest)) +
+                                          ": squared distances at this scale underflow the scalar type; rescale "
+                                          "the points or the weights");
     search_ = Search(std::move(work), search_settings);
   }
 
