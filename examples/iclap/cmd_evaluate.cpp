@@ -476,12 +476,13 @@ int run_evaluate(const Args& args) {
     table = make_touch_table(dataset, ro, std::ref(progress));
   }
   check_orientation(needed, table, origin);
+  check_positions(needed, table, ro, origin);
 
   const ClassifierFactory factory = [ro, built] { return make_classifiers(ro, built); };
 
   // What the dataset's explorations do not allow names the file.
   CrossValidation<> cv =
-      naming_dataset(origin, [&] { return CrossValidation<>(table, factory, make_quantizer(ro), methods, s); });
+      naming_inputs(origin, [&] { return CrossValidation<>(table, factory, make_quantizer(ro), methods, s); });
   const unsigned threads = s.threads > 0 ? static_cast<unsigned>(s.threads) : std::max(1u, std::thread::hardware_concurrency());
   std::printf("iclap %s evaluate\ndataset: %s\n", ICLAP_VERSION_STRING, origin.c_str());
   std::printf("%zu objects, %zu frames, %ld touches (contact threshold %g), %d folds (one exploration of every object held out)\n",
@@ -497,7 +498,7 @@ int run_evaluate(const Args& args) {
   CrossValidationResult r;
   {
     Progress progress("recognising test touch sets");
-    r = cv.run(std::ref(progress));
+    r = naming_inputs(origin, [&] { return cv.run(std::ref(progress)); });
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 

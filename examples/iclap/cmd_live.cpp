@@ -223,7 +223,7 @@ int run_cross_validation(const Options& o, const Setup& setup, const std::string
       cv_progress.finish();  // its line is complete once the replays start
       replay_progress(done, total);
     };
-    r = naming_dataset(path, [&] {
+    r = naming_inputs(path, [&] {
       return evaluate_live_stopping(table, setup.factory, make_quantizer(setup.ro), setup.method, s,
                                     std::ref(cv_progress), replayed);
     });
@@ -467,7 +467,7 @@ int run_live(const Options& o, const Setup& setup, const std::string& path, cons
     const LiveWeights w = [&] {
       try {
         Progress progress("choosing fusion weights");
-        return naming_dataset(path, [&] {
+        return naming_inputs(path, [&] {
           return choose_live_weights(table, setup.factory, make_quantizer(setup.ro), setup.method, cvs,
                                      std::ref(progress));
         });
@@ -485,7 +485,9 @@ int run_live(const Options& o, const Setup& setup, const std::string& path, cons
   } else {
     std::printf("method: %s\n", fusion.to_string().c_str());
   }
-  const LiveReferences<> refs(table, {}, setup.factory, make_quantizer(setup.ro), fusion, setup.cv.normalization);
+  const LiveReferences<> refs = naming_inputs(path, [&] {
+    return LiveReferences<>(table, {}, setup.factory, make_quantizer(setup.ro), fusion, setup.cv.normalization);
+  });
   std::printf("codebook: %ld words (%s descriptor); stop at confidence >= %g after >= %ld touch(es)%s\n",
               static_cast<long>(refs.vocabulary()), setup.ro.descriptor.c_str(), rule.confidence,
               static_cast<long>(rule.min_touches),
@@ -541,6 +543,7 @@ int run_live(const Options& o, const Setup& setup, const std::string& path, cons
   };
 
   std::string how;
+  const bool check_positions_of_touches = reads_positions(needed_classifiers({setup.method}));
   try {
     if (src.sensor) src.sensor->start_periodic_frames(src.rate);
     rig::PosedFrame pf;
@@ -576,6 +579,11 @@ int run_live(const Options& o, const Setup& setup, const std::string& path, cons
       const Index word = refs.word(feature);
       frame.position = pf.pose.position;
       frame.orientation = pf.pose.orientation;
+      if (check_positions_of_touches) {
+        const std::string problem = position_problem(frame.position, setup.ro);
+        if (!problem.empty())
+          throw InvalidArgument(src.source->description(), "frame " + std::to_string(frames) + ": " + problem);
+      }
       stop = session.add_touch(live_touch_of(frame, setup.ro.contact_threshold, pitch, std::move(feature), word));
       std::printf("touch %ld (frame %zu): %s, confidence %s", static_cast<long>(session.touches()), frames,
                   names[static_cast<std::size_t>(session.best())].c_str(), fixed3(session.confidence()).c_str());
@@ -670,6 +678,7 @@ int run_live_command(const Args& args) {
     table = cli::make_touch_table(dataset, setup.ro, std::ref(progress));
   }
   check_orientation(needed, table, path, /*every_frame=*/true);
+  check_positions(needed, table, setup.ro, path);
   return cross_validate ? run_cross_validation(o, setup, path, dataset, table) : run_live(o, setup, path, dataset, table);
 }
 

@@ -6,6 +6,7 @@
 // classifiers with their ICP settings.
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -335,17 +336,67 @@ inline void check_orientation(const std::vector<std::string>& needed, const Touc
   }
 }
 
-/// Runs `f` and returns what it returns. An InvalidArgument naming "table"
+/// The largest position coordinate (metres) the ICP of `scalar` ("float" or
+/// "double") takes: 1e-4 of the square root of the type's largest value,
+/// so squared distances and their sums stay far from overflowing.
+inline double largest_position(const std::string& scalar) {
+  const double top = scalar == "double" ? std::numeric_limits<double>::max()
+                                        : static_cast<double>(std::numeric_limits<float>::max());
+  return 1e-4 * std::sqrt(top);
+}
+
+/// Empty when the ICP of `ro.scalar` takes `position`, otherwise why not
+/// (a coordinate beyond largest_position: a unit error, or 1e300 m that a
+/// float cloud would hold as inf).
+inline std::string position_problem(const Eigen::Vector3d& position, const RecognitionOptions& ro) {
+  const double limit = largest_position(ro.scalar);
+  for (Index r = 0; r < 3; ++r)
+    if (!(std::abs(position(r)) <= limit))
+      return "position coordinate " + format_value(position(r)) + " m is beyond the " + ro.scalar +
+             " ICP's range (|v| <= " + format_value(limit) + " m); check the unit of x, y, z" +
+             (ro.scalar == "float" ? ", or use --scalar double" : "");
+  return {};
+}
+
+/// Does a classifier among `needed` read the touches' positions (every one
+/// but bow)?
+inline bool reads_positions(const std::vector<std::string>& needed) {
+  return !std::all_of(needed.begin(), needed.end(), [](const std::string& c) { return c == "bow"; });
+}
+
+/// Throws InvalidArgument naming `origin` when reads_positions(needed) and
+/// a touch's position has a position_problem: the message names the touch
+/// by object, exploration and frame, the row of the dataset. (The reader
+/// accepts any finite number; 1e300 m became inf in a float cloud and failed
+/// deep inside a fold naming an internal matrix.) Contact points lie within
+/// the pad's half-diagonal of their touch's position, far inside the margin.
+inline void check_positions(const std::vector<std::string>& needed, const TouchTable& table,
+                            const RecognitionOptions& ro, const std::string& origin) {
+  if (!reads_positions(needed)) return;
+  for (Index i = 0; i < table.size(); ++i) {
+    const std::string problem = position_problem(table.touches.positions.col(i), ro);
+    if (problem.empty()) continue;
+    const auto t = static_cast<std::size_t>(i);
+    throw InvalidArgument(origin, "object '" + table.objects[static_cast<std::size_t>(table.object[t])] +
+                                      "' exploration " + std::to_string(table.exploration[t]) + " frame " +
+                                      std::to_string(table.frame[t]) + ": " + problem);
+  }
+}
+
+/// Runs `f` and returns what it returns, with the library's argument names
+/// in its InvalidArgument errors turned into what the user gave: "table"
 /// (what the dataset's explorations do not allow, e.g. too few of an object
-/// for cross validation) is thrown again naming `dataset`, the file (or
-/// origin) the table was made from; other exceptions pass through.
+/// for cross validation) becomes `dataset`, the file (or origin) the table
+/// was made from, and "settings.k" (a codebook larger than the training
+/// touches) becomes "--k". Other exceptions pass through.
 template <typename F>
-auto naming_dataset(const std::string& dataset, F&& f) -> decltype(f()) {
+auto naming_inputs(const std::string& dataset, F&& f) -> decltype(f()) {
   try {
     return f();
   } catch (const InvalidArgument& e) {
-    if (e.argument() != "table") throw;
-    throw InvalidArgument(dataset, e.reason());
+    if (e.argument() == "table") throw InvalidArgument(dataset, e.reason());
+    if (e.argument() == "settings.k") throw InvalidArgument("--k", e.reason() + " of the training touches from " + dataset);
+    throw;
   }
 }
 

@@ -431,8 +431,28 @@ TEST_CASE("iclap live: bad input exits 2 with a clear message") {
   };
   strip_orientation(kTrain, "train_no_pose.csv");
   strip_orientation(kClamp, "clamp_no_pose.csv");
+  // References with a position no float ICP can square (a unit error).
+  {
+    iclap::Dataset d = iclap::read_dataset_csv(kTrain);
+    const auto contact = std::find_if(d.frames.begin(), d.frames.end(), [](const iclap::Frame& fr) {
+      return iclap::is_contact(fr);
+    });
+    REQUIRE(contact != d.frames.end());
+    contact->position.x() = 1e300;
+    iclap::write_dataset_csv(scratch("train_far.csv"), d);
+  }
   const std::string refs = kTrain;
   const test::UsageCases cases = {
+      {{"live", "--references", scratch("train_far.csv"), "--method", "0.5*icp+0.5*bow", "--replay", kClamp},
+       scratch("train_far.csv") + ": object '"},
+      {{"live", "--references", scratch("train_far.csv"), "--method", "0.5*icp+0.5*bow", "--replay", kClamp},
+       "position coordinate 1e+300 m is beyond the float ICP's range"},
+      {{"live", "--references", refs, "--method", "0.5*icp+0.5*bow", "--replay", scratch("train_far.csv")},
+       "replay of " + scratch("train_far.csv")},
+      {{"live", "--references", refs, "--method", "0.5*icp+0.5*bow", "--replay", scratch("train_far.csv")},
+       ": position coordinate 1e+300 m is beyond the float ICP's range"},
+      {{"live", "--references", refs, "--method", "0.5*icp+0.5*bow", "--k", "100000", "--replay", kClamp},
+       "--k: k = 100000 exceeds the number of features"},
       {{"live", "--references", scratch("train_no_pose.csv"), "--method", "height", "--replay", kClamp},
        scratch("train_no_pose.csv") + ": the height classifier needs the pad orientation (columns qw, qx, qy, qz)"},
       {{"live", "--references", scratch("train_no_pose.csv"), "--method", "0.5*bow+0.5*patch", "--replay", kClamp},
