@@ -23,6 +23,8 @@
 #include <string>
 #include <vector>
 
+#include "iclap/core/error.hpp"
+
 namespace iclap::cli {
 
 /// Exit statuses of the `iclap` program.
@@ -93,7 +95,7 @@ class Options {
         has_value = true;
       }
       if (flags.count(name)) {
-        if (has_value) throw UsageError("option --" + name + " takes no value (got '" + value + "')");
+        if (has_value) throw UsageError("option --" + name + " takes no value (got " + quote_text(value, 60) + ")");
         flags_.insert(name);
       } else if (value_options.count(name)) {
         if (!has_value) {
@@ -101,7 +103,7 @@ class Options {
           value = args[++i];
           // No value starts with "--": `--k --out DIR` forgot the value of --k.
           if (value.size() > 2 && value.compare(0, 2, "--") == 0)
-            throw UsageError("option --" + name + " needs a value (got the option '" + value + "')");
+            throw UsageError("option --" + name + " needs a value (got the option " + quote_text(value, 60) + ")");
         }
         if (value.empty()) throw UsageError("option --" + name + ": empty value");
         values_[name] = value;
@@ -132,7 +134,7 @@ class Options {
                      const std::string& fallback) const {
     const std::string v = string(name, fallback);
     if (std::find(choices.begin(), choices.end(), v) == choices.end()) {
-      throw UsageError("option --" + name + ": '" + v + "' is not one of " + join(choices, "|"));
+      throw UsageError("option --" + name + ": " + quote_text(v, 60) + " is not one of " + join(choices, "|"));
     }
     return v;
   }
@@ -190,7 +192,7 @@ class Options {
     errno = 0;
     const long long v = std::strtoll(text.c_str(), &end, 10);
     if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE)
-      throw UsageError(what + ": '" + text + "' is not an integer");
+      throw UsageError(what + ": " + quote_text(text, 60) + " is not an integer");
     if (v < min || v > max)
       throw UsageError(what + ": " + text + " is outside [" + std::to_string(min) + ", " +
                        std::to_string(max) + "]");
@@ -201,8 +203,8 @@ class Options {
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
     if (text.empty() || end != text.c_str() + text.size())
-      throw UsageError(what + ": '" + text + "' is not a number");
-    if (!std::isfinite(v)) throw UsageError(what + ": '" + text + "' is not finite");
+      throw UsageError(what + ": " + quote_text(text, 60) + " is not a number");
+    if (!std::isfinite(v)) throw UsageError(what + ": " + quote_text(text, 60) + " is not finite");
     if (v < min || v > max) throw UsageError(what + ": " + text + " is out of range");
     return v;
   }

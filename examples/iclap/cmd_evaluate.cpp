@@ -473,7 +473,7 @@ int run_evaluate(const Args& args) {
   TouchTable table;
   {
     Progress progress("describing touches");
-    table = make_touch_table(dataset, ro, std::ref(progress));
+    table = naming_inputs(origin, [&] { return make_touch_table(dataset, ro, std::ref(progress)); });
   }
   check_orientation(needed, table, origin);
   check_positions(needed, table, ro, origin);

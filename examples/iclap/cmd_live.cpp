@@ -675,7 +675,7 @@ int run_live_command(const Args& args) {
   TouchTable table;
   {
     Progress progress("describing reference touches");
-    table = cli::make_touch_table(dataset, setup.ro, std::ref(progress));
+    table = naming_inputs(path, [&] { return cli::make_touch_table(dataset, setup.ro, std::ref(progress)); });
   }
   check_orientation(needed, table, path, /*every_frame=*/true);
   check_positions(needed, table, setup.ro, path);

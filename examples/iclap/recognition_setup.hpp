@@ -387,14 +387,15 @@ inline void check_positions(const std::vector<std::string>& needed, const TouchT
 /// in its InvalidArgument errors turned into what the user gave: "table"
 /// (what the dataset's explorations do not allow, e.g. too few of an object
 /// for cross validation) becomes `dataset`, the file (or origin) the table
-/// was made from, and "settings.k" (a codebook larger than the training
-/// touches) becomes "--k". Other exceptions pass through.
+/// was made from, as does "dataset" (e.g. no contact frame), and
+/// "settings.k" (a codebook larger than the training touches) becomes
+/// "--k". Other exceptions pass through.
 template <typename F>
 auto naming_inputs(const std::string& dataset, F&& f) -> decltype(f()) {
   try {
     return f();
   } catch (const InvalidArgument& e) {
-    if (e.argument() == "table") throw InvalidArgument(dataset, e.reason());
+    if (e.argument() == "table" || e.argument() == "dataset") throw InvalidArgument(dataset, e.reason());
     if (e.argument() == "settings.k") throw InvalidArgument("--k", e.reason() + " of the training touches from " + dataset);
     throw;
   }

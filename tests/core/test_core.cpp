@@ -90,6 +90,22 @@ TEST_CASE("checks name the argument and the location") {
   CHECK(std::string(pe.what()) == "data.csv:12: negative pressure");
 }
 
+TEST_CASE("quote_text: control bytes escaped, long text cut outside UTF-8 sequences; format_value") {
+  using namespace std::string_literals;
+  CHECK(quote_text("pliers_1") == "'pliers_1'");
+  CHECK(quote_text("") == "''");
+  // A NUL would end the message in every printf("%s"); \r would overwrite it.
+  CHECK(quote_text("1\0" "2"s) == "'1\\x002'");
+  CHECK(quote_text("a\rb\x1b[2J\x7f") == "'a\\x0db\\x1b[2J\\x7f'");
+  CHECK(quote_text("zange_m\xc3\xbcller") == "'zange_m\xc3\xbcller'");  // UTF-8 kept
+  CHECK(quote_text("abcdefgh", 4) == "'abcd...'");
+  CHECK(quote_text("abcd", 4) == "'abcd'");
+  // Cut before a two-byte sequence that would straddle the limit.
+  CHECK(quote_text("abc\xc3\xbc", 4) == "'abc...'");
+  CHECK(format_value(1e-310) == "1e-310");
+  CHECK(format_value(0.5) == "0.5");
+}
+
 namespace {
 // Names in the current directory that start with `prefix`.
 std::vector<std::string> files_starting_with(const std::string& prefix) {

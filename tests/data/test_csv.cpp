@@ -317,6 +317,12 @@ TEST_CASE("dataset csv: every malformed case of the spec is rejected with its li
     check_rejected(h + ok + ok + "a,0,0," + v + ",0.2,0.3,1,2,3,4\n", 4, "is not a finite number");
     check_rejected(h + "a,0,0,0.1,0.2,0.3,1,2," + v + ",4\n", 2, "column 'p1_0'");
   }
+  // A control byte in a field is shown escaped: a raw NUL cut the message short.
+  {
+    using namespace std::string_literals;
+    check_rejected(h + "a,0,0,0\0" "1,0.2,0.3,1,2,3,4\n"s, 2, "column 'x': '0\\x001' is not a finite number");
+    check_rejected(h + "a,0,0,0.1,0.2,0.3,1,2,\x1b[31m,4\n", 2, "'\\x1b[31m' is not a finite number");
+  }
   // Negative pressure.
   check_rejected(h + ok + "a,0,0,0.1,0.2,0.3,1,-2,3,4\n", 3, "negative pressure -2");
   // Non-integer exploration or frame.

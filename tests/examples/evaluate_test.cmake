@@ -174,3 +174,6 @@ expect_match("${err}" "--k: k = 100000 exceeds the number of features \\([0-9]+\
 if(EXISTS ${WORK_DIR}/bigk OR EXISTS ${WORK_DIR}/far)
   message(FATAL_ERROR "a refused evaluate left its --out behind")
 endif()
+# No touch at all names the file and the threshold as given.
+run_expect(2 ${ICLAP} evaluate ${WORK_DIR}/three.csv --contact-threshold 1e9 --out ${WORK_DIR}/none)
+expect_match("${err}" "three\\.csv: has no contact frame \\(no taxel above 1e\\+09\\)")

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 
 namespace iclap {
@@ -114,5 +115,34 @@ class WriteError : public IoError {
  public:
   using IoError::IoError;
 };
+
+/// `text` quoted for an error message: 'text', with every control byte
+/// (below 0x20, and 0x7f) written as \xNN, so a NUL in the input cannot
+/// cut a message short nor a carriage return overwrite it on a terminal.
+/// With `max_bytes` > 0, a longer text is cut after max_bytes bytes (not
+/// inside a UTF-8 sequence) and ends in "...". Bytes from 0x80 (UTF-8
+/// names) are kept.
+inline std::string quote_text(std::string_view text, std::size_t max_bytes = 0) {
+  bool cut = false;
+  if (max_bytes > 0 && text.size() > max_bytes) {
+    std::size_t n = max_bytes;
+    while (n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0) == 0x80) --n;  // text[n] starts the rest
+    text = text.substr(0, n);
+    cut = true;
+  }
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out = "'";
+  for (const char ch : text) {
+    const auto b = static_cast<unsigned char>(ch);
+    if (b < 0x20 || b == 0x7f) {
+      out += "\\x";
+      out += kHex[b >> 4];
+      out += kHex[b & 0xf];
+    } else {
+      out += ch;
+    }
+  }
+  return out + (cut ? "...'" : "'");
+}
 
 }  // namespace iclap

@@ -206,14 +206,14 @@ class DatasetCsvAppender {
     std::string unexpected, duplicate;
     for (auto f : fields) {
       const std::string s(f);
-      if (!want.count(s)) unexpected += (unexpected.empty() ? "'" : ", '") + s + "'";
-      else if (!seen.insert(s).second) duplicate += (duplicate.empty() ? "'" : ", '") + s + "'";
+      if (!want.count(s)) unexpected += (unexpected.empty() ? "" : ", ") + quote_text(s, 60);
+      else if (!seen.insert(s).second) duplicate += (duplicate.empty() ? "" : ", ") + quote_text(s, 60);
     }
     std::string missing;
     std::size_t n_missing = 0;
     for (const auto& e : expected)
       if (!seen.count(e)) {
-        if (++n_missing <= 5) missing += (missing.empty() ? "'" : ", '") + e + "'";
+        if (++n_missing <= 5) missing += (missing.empty() ? "" : ", ") + quote_text(e);
       }
     if (n_missing > 5) missing += " and " + std::to_string(n_missing - 5) + " more";
     if (!unexpected.empty() || !missing.empty() || !duplicate.empty()) {

@@ -111,7 +111,7 @@ inline std::string quaternion_problem(const Eigen::Quaterniond& q) {
 
 inline void validate_frame(const Frame& f, const DatasetColumns& columns, const std::string& where) {
   const std::string problem = object_name_problem(f.object);
-  if (!problem.empty()) throw InvalidArgument(where + ".object", "'" + f.object + "' " + problem);
+  if (!problem.empty()) throw InvalidArgument(where + ".object", quote_text(f.object, 60) + " " + problem);
   if (f.pressures.rows() != columns.rows || f.pressures.cols() != columns.cols)
     throw InvalidArgument(where + ".pressures",
                           "is " + std::to_string(f.pressures.rows()) + "x" +

@@ -90,7 +90,8 @@ inline bool parse_taxel_name(std::string_view name, Index& r, Index& c) {
   return canonical(name.substr(1, us - 1), r) && canonical(name.substr(us + 1), c);
 }
 
-inline std::string quote_name(std::string_view s) { return "'" + std::string(s) + "'"; }
+/// A column name or field for a message (control bytes escaped, cut at 60 bytes).
+inline std::string quote_name(std::string_view s) { return quote_text(s, 60); }
 
 /// The whole reader: `text` is the file content, `name` its display name.
 inline Dataset parse_dataset_csv(std::string_view text, const std::string& name,

@@ -79,7 +79,7 @@ inline Eigen::MatrixXd read_point_file(std::istream& in, const std::string& name
       const auto res = std::from_chars(begin, end, v);
       // A number too large or too small for a double is no header word.
       if (res.ec == std::errc::result_out_of_range && res.ptr == end)
-        throw ParseError(name, line_no, "'" + tok + "' in column " + std::to_string(k + 1) + " is out of the range of a double");
+        throw ParseError(name, line_no, quote_text(tok, 40) + " in column " + std::to_string(k + 1) + " is out of the range of a double");
       if (res.ec != std::errc() || res.ptr != end) {
         bad_token = tok;
         bad_column = k + 1;
@@ -89,11 +89,11 @@ inline Eigen::MatrixXd read_point_file(std::istream& in, const std::string& name
     }
     if (!bad_token.empty()) {
       if (first_content) continue;  // the optional header line
-      throw ParseError(name, line_no, "'" + bad_token + "' in column " + std::to_string(bad_column) + " is not a number");
+      throw ParseError(name, line_no, quote_text(bad_token, 40) + " in column " + std::to_string(bad_column) + " is not a number");
     }
     for (std::size_t k = 0; k < row.size(); ++k)
       if (!std::isfinite(row[k]))
-        throw ParseError(name, line_no, "non-finite value '" + tokens[k] + "' in column " + std::to_string(k + 1));
+        throw ParseError(name, line_no, "non-finite value " + quote_text(tokens[k], 40) + " in column " + std::to_string(k + 1));
     if (dim == 0) {
       dim = row.size();
     } else if (row.size() != dim) {

@@ -91,10 +91,8 @@ inline bool token_to_int64(std::string_view t, std::int64_t& v) {
   return r.ec == std::errc() && r.ptr == t.data() + t.size();
 }
 
-inline std::string show_token(std::string_view t) {
-  if (t.size() > 40) return "'" + std::string(t.substr(0, 40)) + "...'";
-  return "'" + std::string(t) + "'";
-}
+/// A token for a message: quote_text(t, 40).
+inline std::string show_token(std::string_view t) { return quote_text(t, 40); }
 
 inline bool starts_with(std::string_view s, std::string_view prefix) {
   return s.size() >= prefix.size() && s.compare(0, prefix.size(), prefix) == 0;

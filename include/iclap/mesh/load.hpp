@@ -28,7 +28,7 @@ inline double metres_per_unit(LengthUnit u) { return u == LengthUnit::millimetre
 inline LengthUnit parse_length_unit(const std::string& text, const std::string& argument = "unit") {
   if (text == "m") return LengthUnit::metres;
   if (text == "mm") return LengthUnit::millimetres;
-  throw InvalidArgument(argument, "'" + text + "' is not a length unit (expected m or mm)");
+  throw InvalidArgument(argument, quote_text(text, 40) + " is not a length unit (expected m or mm)");
 }
 
 /// The lower-case extension of `path` with its dot (".obj"), or "".
@@ -57,7 +57,7 @@ inline TriangleMesh load_mesh(const std::string& path) {
   if (ext == ".obj") return load_obj(path);
   if (ext == ".stl") return load_stl(path);
   if (ext == ".ply") return load_ply(path);
-  throw InvalidArgument("path", "'" + path + "' has no mesh extension (expected .obj, .stl or .ply)");
+  throw InvalidArgument("path", quote_text(path) + " has no mesh extension (expected .obj, .stl or .ply)");
 }
 
 /// Multiplies every vertex by `factor` (e.g. metres_per_unit(unit)).

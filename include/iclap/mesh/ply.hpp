@@ -280,10 +280,10 @@ inline PlyContent parse_ply(std::string_view data, const std::string& name, bool
       if (face_list < 0) throw ParseError(name, e.line, "element 'face' has no list property of vertex indices");
     }
     for (std::uint64_t item = 0; item < e.count; ++item) {
-      const std::string where = "element '" + e.name + "' item " + std::to_string(item);
+      const std::string where = "element " + show_token(e.name) + " item " + std::to_string(item);
       for (std::size_t i = 0; i < e.properties.size(); ++i) {
         const PlyProperty& p = e.properties[i];
-        const std::string what = where + " property '" + p.name + "'";
+        const std::string what = where + " property " + show_token(p.name);
         if (!p.is_list) {
           if (!is_vertex && !reader.ascii()) {
             reader.skip(p.type, 1, what);

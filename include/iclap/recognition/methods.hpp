@@ -97,13 +97,13 @@ class MethodParser {
     bool fit = false;
     Fusion f = sum(fit);
     skip();
-    if (pos_ != s_.size()) fail("unexpected '" + s_.substr(pos_) + "'");
+    if (pos_ != s_.size()) fail("unexpected " + quote_text(s_.substr(pos_), 40));
     return {f, fit};
   }
 
  private:
   [[noreturn]] void fail(const std::string& why) const {
-    throw InvalidArgument("method", "'" + s_ + "': " + why + " (at character " + std::to_string(pos_ + 1) + ")");
+    throw InvalidArgument("method", quote_text(s_, 80) + ": " + why + " (at character " + std::to_string(pos_ + 1) + ")");
   }
   void skip() {
     while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;

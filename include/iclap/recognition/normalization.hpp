@@ -39,7 +39,7 @@ inline Normalization parse_normalization(const std::string& name) {
   if (name == "l2") return Normalization::L2;
   if (name == "minmax") return Normalization::MinMax;
   if (name == "zscore") return Normalization::ZScore;
-  throw InvalidArgument("normalization", "'" + name + "' is not one of l2|minmax|zscore");
+  throw InvalidArgument("normalization", quote_text(name, 60) + " is not one of l2|minmax|zscore");
 }
 
 /// Normalises `d` (one distance per object) in place. Distances must be

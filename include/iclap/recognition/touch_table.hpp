@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "iclap/core/check.hpp"
 #include "iclap/core/error.hpp"
 #include "iclap/core/progress.hpp"
 #include "iclap/data/dataset.hpp"
@@ -127,7 +128,7 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
     else ++t.idle_frames;
   }
   if (kept.empty())
-    throw EmptyInput("dataset", "has no contact frame (no taxel above " + std::to_string(contact_threshold) + ")");
+    throw EmptyInput("dataset", "has no contact frame (no taxel above " + format_value(contact_threshold) + ")");
   const auto n = static_cast<Index>(kept.size());
   const double pitch = taxel_pitch_of(dataset);
   std::vector<Eigen::Vector3d> contacts;

@@ -57,13 +57,13 @@ inline std::unique_ptr<PoseSource> make_pose_source(const std::string& spec, con
       errno = 0;
       const double x = std::strtod(item.c_str(), &end);
       if (item.empty() || end != item.c_str() + item.size() || errno == ERANGE || !std::isfinite(x))
-        throw InvalidArgument(argument, "'" + spec + "': '" + item + "' is not a finite number");
+        throw InvalidArgument(argument, quote_text(spec, 80) + ": " + quote_text(item, 40) + " is not a finite number");
       v.push_back(x);
       if (comma == std::string::npos) break;
       start = comma + 1;
     }
     if (v.size() != 3 && v.size() != 7)
-      throw InvalidArgument(argument, "'" + spec + "' needs 3 numbers (x,y,z) or 7 (x,y,z,qw,qx,qy,qz), got " +
+      throw InvalidArgument(argument, quote_text(spec, 80) + " needs 3 numbers (x,y,z) or 7 (x,y,z,qw,qx,qy,qz), got " +
                                           std::to_string(v.size()));
     Pose p;
     p.position = Eigen::Vector3d(v[0], v[1], v[2]);
@@ -71,11 +71,11 @@ inline std::unique_ptr<PoseSource> make_pose_source(const std::string& spec, con
     try {
       return std::make_unique<FixedPoseSource>(p);
     } catch (const InvalidArgument& e) {
-      throw InvalidArgument(argument, "'" + spec + "': " + e.what());
+      throw InvalidArgument(argument, quote_text(spec, 80) + ": " + e.what());
     }
   }
   if (kind == "replay") {
-    if (rest.empty()) throw InvalidArgument(argument, "'" + spec + "' needs a file: replay:FILE.csv");
+    if (rest.empty()) throw InvalidArgument(argument, quote_text(spec, 80) + " needs a file: replay:FILE.csv");
     const Dataset d = read_dataset_csv(rest);
     return std::make_unique<ReplayPoseSource>(ReplayPoseSource::from_dataset(d, rest));
   }
@@ -83,12 +83,12 @@ inline std::unique_ptr<PoseSource> make_pose_source(const std::string& spec, con
 #ifdef ICLAP_HAVE_OPENHAPTICS
     return std::make_unique<OpenHapticsPoseSource>(rest);
 #else
-    throw InvalidArgument(argument, "'" + spec +
-                                        "': this build has no OpenHaptics support (install OpenHaptics and "
+    throw InvalidArgument(argument, quote_text(spec, 80) +
+                                        ": this build has no OpenHaptics support (install OpenHaptics and "
                                         "reconfigure; CMake looks for HD/hd.h)");
 #endif
   }
-  throw InvalidArgument(argument, "'" + spec + "' is not a pose source; use one of:\n" + pose_spec_help());
+  throw InvalidArgument(argument, quote_text(spec, 80) + " is not a pose source; use one of:\n" + pose_spec_help());
 }
 
 }  // namespace iclap::rig

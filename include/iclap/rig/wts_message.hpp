@@ -30,7 +30,7 @@ inline std::string to_string(const Grid& g) { return std::to_string(g.rows) + "x
 /// Throws InvalidArgument naming `argument` and the text otherwise.
 inline Grid parse_grid(const std::string& text, const std::string& argument = "grid") {
   const auto x = text.find_first_of("xX");
-  const auto bad = [&](const std::string& why) { return InvalidArgument(argument, "'" + text + "' " + why); };
+  const auto bad = [&](const std::string& why) { return InvalidArgument(argument, quote_text(text, 60) + " " + why); };
   if (x == std::string::npos || x == 0 || x + 1 >= text.size()) throw bad("is not ROWSxCOLS (e.g. 14x6)");
   const auto parse = [&](const std::string& part) -> Index {
     if (part.empty() || part.size() > 4 || part.find_first_not_of("0123456789") != std::string::npos)

@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "iclap/core/error.hpp"
 #include "iclap/mesh/primitives.hpp"
 #include "iclap/sim/objects.hpp"
 
@@ -225,7 +226,7 @@ inline SimObject builtin_object(const std::string& name) {
     b.cylinder({120, -50, 30}, {120, 50, 30}, 30, 32);
     b.cylinder({-160, 0, 30}, {95, 0, 30}, 12, 20);
   } else {
-    throw InvalidArgument("name", "'" + name + "' is not a built-in object");
+    throw InvalidArgument("name", quote_text(name, 60) + " is not a built-in object");
   }
   return b.finish(name);
 }
