@@ -343,6 +343,12 @@ TEST_CASE("dataset csv: every malformed case of the spec is rejected with its li
   check_rejected("object,exploration,frame,x,y,z,p0_0,p0_0\n", 1, "duplicate column 'p0_0'");
   check_rejected(h + ok + "# late\n", 3, "comment line after the header");
   check_rejected(h + "\"a\",0,0,0.1,0.2,0.3,1,2,3,4\n", 2, "contains a quote");
+  {
+    using namespace std::string_literals;
+    check_rejected(h + "pli\0ers,0,0,0.1,0.2,0.3,1,2,3,4\n"s, 2, "name 'pli\\x00ers' contains a control character");
+    check_rejected(h + "a\x1b[2Jb,0,0,0.1,0.2,0.3,1,2,3,4\n", 2, "contains a control character");
+  }
+  CHECK(read_text(h + "tab\tname,0,0,0.1,0.2,0.3,1,2,3,4\n").frames.at(0).object == "tab\tname");
   check_rejected("# only a comment\n", 1, "no header row");
   // A comment the writer could not write back (a lone carriage return).
   check_rejected("# fine\n# half\rline\n" + h, 2, "carriage return");
