@@ -175,12 +175,6 @@ std::string percent(double r) {
   return buf;
 }
 
-std::string csv_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
 void write_file(const fs::path& path, const std::string& content) {
   AtomicFileWriter w(path.string());
   w.stream() << content;
@@ -265,7 +259,7 @@ void write_figures(const fs::path& out, const CrossValidationResult& r, std::vec
       p.x_integer = true;
       for (std::size_t g = 0; g < sw.grid.size(); ++g) {
         PlotSeries s;
-        s.name = "w = " + csv_number(sw.grid[g][0]);
+        s.name = "w = " + format_value(sw.grid[g][0]);
         for (std::size_t t = 0; t < r.touches.size(); ++t) {
           s.x.push_back(r.touches[t]);
           s.y.push_back(sw.total[t] ? static_cast<double>(sw.correct[g][t]) / static_cast<double>(sw.total[t]) : 0);
@@ -282,7 +276,7 @@ void write_figures(const fs::path& out, const CrossValidationResult& r, std::vec
       std::map<long long, PlotSeries> lines;
       for (std::size_t g = 0; g < sw.grid.size(); ++g) {
         PlotSeries& s = lines[std::llround(sw.grid[g][2] * 1e9)];
-        s.name = "w(" + sw.terms[2] + ") = " + csv_number(sw.grid[g][2]);
+        s.name = "w(" + sw.terms[2] + ") = " + format_value(sw.grid[g][2]);
         s.x.push_back(sw.grid[g][1]);
         s.y.push_back(sw.total[t] ? static_cast<double>(sw.correct[g][t]) / static_cast<double>(sw.total[t]) : 0);
       }
@@ -299,8 +293,8 @@ void write_tables(const fs::path& out, const CrossValidationResult& r) {
   std::string results = "method,touches,rate,correct,total,fold_rate_std\n";
   for (const auto& m : r.methods)
     for (std::size_t t = 0; t < r.touches.size(); ++t)
-      results += m.name + "," + std::to_string(r.touches[t]) + "," + csv_number(m.rate(t)) + "," +
-                 std::to_string(m.correct[t]) + "," + std::to_string(m.total[t]) + "," + csv_number(fold_std(m, t)) +
+      results += m.name + "," + std::to_string(r.touches[t]) + "," + format_value(m.rate(t)) + "," +
+                 std::to_string(m.correct[t]) + "," + std::to_string(m.total[t]) + "," + format_value(fold_std(m, t)) +
                  "\n";
   write_file(out / "results.csv", results);
 
@@ -324,10 +318,10 @@ void write_tables(const fs::path& out, const CrossValidationResult& r) {
   for (const auto& sw : r.sweeps)
     for (std::size_t g = 0; g < sw.grid.size(); ++g) {
       std::string w;
-      for (std::size_t i = 0; i < sw.grid[g].size(); ++i) w += (i ? "+" : "") + csv_number(sw.grid[g][i]) + "*" + sw.terms[i];
+      for (std::size_t i = 0; i < sw.grid[g].size(); ++i) w += (i ? "+" : "") + format_value(sw.grid[g][i]) + "*" + sw.terms[i];
       for (std::size_t t = 0; t < r.touches.size(); ++t)
         sweeps += sw.method + "," + w + "," + std::to_string(r.touches[t]) + "," +
-                  csv_number(sw.total[t] ? static_cast<double>(sw.correct[g][t]) / static_cast<double>(sw.total[t]) : 0) +
+                  format_value(sw.total[t] ? static_cast<double>(sw.correct[g][t]) / static_cast<double>(sw.total[t]) : 0) +
                   "\n";
     }
   write_file(out / "sweeps.csv", sweeps);

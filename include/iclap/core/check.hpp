@@ -2,7 +2,6 @@
 #pragma once
 
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include <Eigen/Core>
@@ -29,14 +28,6 @@ template <typename Derived>
 void check_not_empty(const Eigen::DenseBase<Derived>& m, const std::string& argument) {
   if (m.cols() == 0) throw EmptyInput(argument, "has no points");
   if (m.rows() == 0) throw EmptyInput(argument, "has dimension 0");
-}
-
-/// A value for an error message: 6 significant digits in the shorter of
-/// fixed and exponent notation (1e-310, not std::to_string's 0.000000).
-inline std::string format_value(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
 }
 
 /// Throws DimensionMismatch naming `argument` when `actual != expected`.

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -116,6 +117,17 @@ class WriteError : public IoError {
   using IoError::IoError;
 };
 
+/// A number for a message or a label: 6 significant digits in the shorter
+/// of fixed and exponent notation (1e-310, not std::to_string's 0.000000).
+inline std::string format_value(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+/// Is `b` a control byte (below 0x20, or 0x7f)?
+inline bool is_control_byte(unsigned char b) { return b < 0x20 || b == 0x7f; }
+
 /// `text` quoted for an error message: 'text', with every control byte
 /// (below 0x20, and 0x7f) written as \xNN, so a NUL in the input cannot
 /// cut a message short nor a carriage return overwrite it on a terminal.
@@ -134,7 +146,7 @@ inline std::string quote_text(std::string_view text, std::size_t max_bytes = 0) 
   std::string out = "'";
   for (const char ch : text) {
     const auto b = static_cast<unsigned char>(ch);
-    if (b < 0x20 || b == 0x7f) {
+    if (is_control_byte(b)) {
       out += "\\x";
       out += kHex[b >> 4];
       out += kHex[b & 0xf];

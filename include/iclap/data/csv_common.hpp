@@ -86,8 +86,7 @@ inline std::string object_name_problem(std::string_view name) {
     if (ch == '\n' || ch == '\r') return "contains a line break";
     // Other control bytes (a NUL, an escape sequence) are corruption, not a
     // label: printed in results and messages they cut or garble them.
-    const auto b = static_cast<unsigned char>(ch);
-    if ((b < 0x20 && ch != '\t') || b == 0x7f) return "contains a control character";
+    if (ch != '\t' && is_control_byte(static_cast<unsigned char>(ch))) return "contains a control character";
   }
   if (name.front() == ' ' || name.front() == '\t' || name.back() == ' ' || name.back() == '\t')
     return "has leading or trailing white space";

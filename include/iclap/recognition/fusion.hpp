@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <memory>
 #include <string>
 #include <utility>
@@ -104,10 +103,10 @@ class Fusion {
       const double w = f.weights_[i];
       if (!std::isfinite(w)) throw InvalidArgument("weights", "weight " + std::to_string(w) + " is not finite in " + expr);
       if (w < 0)
-        throw InvalidArgument("weights", "negative weight " + format(w) + " for " + f.children_[i].to_string() + " in " + expr);
+        throw InvalidArgument("weights", "negative weight " + format_value(w) + " for " + f.children_[i].to_string() + " in " + expr);
     }
     if (std::abs(sum - 1.0) > 1e-9)
-      throw InvalidArgument("weights", "the weights sum to " + format(sum) + ", not 1, in " + expr);
+      throw InvalidArgument("weights", "the weights sum to " + format_value(sum) + ", not 1, in " + expr);
     return f;
   }
 
@@ -198,7 +197,7 @@ class Fusion {
         std::string s;
         for (std::size_t i = 0; i < children_.size(); ++i) {
           if (i) s += "+";
-          s += format(weights_[i]) + "*" + children_[i].to_string_as_factor();
+          s += format_value(weights_[i]) + "*" + children_[i].to_string_as_factor();
         }
         return s;
       }
@@ -217,11 +216,6 @@ class Fusion {
  private:
   Fusion() = default;
 
-  static std::string format(double w) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", w);
-    return buf;
-  }
   std::string to_string_as_factor() const {
     return kind_ == Kind::WeightedSum ? "(" + to_string() + ")" : to_string();
   }
@@ -235,7 +229,7 @@ class Fusion {
   static void check_non_negative(const Eigen::VectorXd& v, const Fusion& f) {
     if (v.size() > 0 && v.minCoeff() < 0)
       throw InvalidArgument("distances", "product fusion needs non-negative distances, but " + f.to_string() +
-                                             " has " + format(v.minCoeff()) +
+                                             " has " + format_value(v.minCoeff()) +
                                              " (z-score normalisation is signed: use l2 or minmax with products)");
   }
 

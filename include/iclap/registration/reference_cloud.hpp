@@ -73,13 +73,15 @@ class ReferenceCloud {
       if (!(weights(k) > 0))
         throw InvalidArgument("weights", "must be > 0, got " + format_value(static_cast<double>(weights(k))) +
                                              " for coordinate " + std::to_string(k));
-      // The transform divides by the weights (undoing the weighting).
+      // The transform divides by the weights (undoing the weighting): a
+      // finite normal weight has a finite reciprocal.
+      static_assert(Scalar(1) / std::numeric_limits<Scalar>::min() < std::numeric_limits<Scalar>::max());
       const auto w = static_cast<Scalar>(weights(k));
-      if (!std::isfinite(w) || !(w >= std::numeric_limits<Scalar>::min()) || !std::isfinite(Scalar(1) / w))
+      if (!std::isfinite(w) || !(w >= std::numeric_limits<Scalar>::min()))
         throw InvalidArgument("weights", "weight " + format_value(static_cast<double>(weights(k))) +
                                              " of coordinate " + std::to_string(k) +
-                                             " is out of the scalar type's range (subnormal, or it or its "
-                                             "reciprocal overflows)");
+                                             " is out of the scalar type's range (it overflows, or it is "
+                                             "subnormal and its reciprocal may overflow)");
     }
     weights_ = weights.template cast<Scalar>();
     // The transform holds ratios w_j / w_i of the weights (W^-1 R_w W).
