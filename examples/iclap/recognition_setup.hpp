@@ -337,12 +337,10 @@ inline void check_orientation(const std::vector<std::string>& needed, const Touc
 }
 
 /// The largest position coordinate (metres) the ICP of `scalar` ("float" or
-/// "double") takes: 1e-4 of the square root of the type's largest value,
-/// so squared distances and their sums stay far from overflowing.
+/// "double") takes: the library's largest_coordinate, which the classifiers
+/// enforce too (this check comes first so that its message names the row).
 inline double largest_position(const std::string& scalar) {
-  const double top = scalar == "double" ? std::numeric_limits<double>::max()
-                                        : static_cast<double>(std::numeric_limits<float>::max());
-  return 1e-4 * std::sqrt(top);
+  return scalar == "double" ? largest_coordinate<double>() : largest_coordinate<float>();
 }
 
 /// Empty when the ICP of `ro.scalar` takes `position`, otherwise why not

@@ -129,6 +129,17 @@ TEST_CASE("method names, parsing and the weight grid") {
   CHECK(error_of([] { parse_method("(icp"); }).find("missing ')'") != std::string::npos);
   CHECK(error_of([] { parse_method("0.3*icp+0.3*bow"); }).find("sum to 0.6") != std::string::npos);
   CHECK(error_of([] { parse_method("(icp+bow)*iclap"); }).find("top-level") != std::string::npos);
+  // Names as with_variants makes them, and names that start with a digit;
+  // a space inside a name is an error, not removed.
+  const Method variant = parse_method("0.5*patch-trim50 + 0.5*bow");
+  CHECK(variant.fusion.weights() == std::vector<double>{0.5, 0.5});
+  CHECK(variant.classifiers() == std::vector<std::string>{"patch-trim50", "bow"});
+  const Method renamed = with_variants(parse_method("patch+bow"), "patch", {"patch-trim50", "patch-trim100"});
+  CHECK(parse_method(renamed.fusion.to_string()).fusion.to_string() == renamed.fusion.to_string());
+  CHECK(parse_method("bow+3d").classifiers() == std::vector<std::string>{"bow", "3d"});
+  CHECK(error_of([] { parse_method("ic p+bow"); }).find("unexpected 'p+bow' (at character 4)") != std::string::npos);
+  CHECK(error_of([] { parse_method("0.5 icp"); }).find("a weight must be followed by '*'") != std::string::npos);
+  CHECK(error_of([] { parse_method("-icp"); }).find("expected a classifier name") != std::string::npos);
 
   const auto g2 = weight_grid(2);
   REQUIRE(g2.size() == 9);
@@ -155,6 +166,30 @@ TEST_CASE("method names, parsing and the weight grid") {
   CHECK_THROWS_AS(weight_grid(4, 3), InvalidArgument);
   // Every grid vector is accepted by the method's sum.
   for (const auto& w : g3) CHECK_NOTHROW(methods[9].fusion.with_weights(w));
+  // Also with zero weights and up to 5 terms: a last weight of 0 stays 0
+  // (1 - the rounded sum of the others gave -2.2e-16 for 5 terms of tenths,
+  // refused by Fusion as negative).
+  for (int terms = 2; terms <= 5; ++terms) {
+    std::string spec = "c0";
+    for (int t = 1; t < terms; ++t) spec += "+c" + std::to_string(t);
+    const Fusion fusion = parse_method(spec).fusion;
+    for (int steps = terms; steps <= (terms == 5 ? 20 : 30); ++steps) {
+      int refused = 0, negative = 0;
+      for (bool zero : {false, true})
+        for (const auto& w : weight_grid(terms, steps, zero)) {
+          for (double x : w) negative += x < 0 ? 1 : 0;
+          try {
+            (void)fusion.with_weights(w);
+          } catch (const InvalidArgument&) {
+            ++refused;
+          }
+        }
+      CAPTURE(terms);
+      CAPTURE(steps);
+      CHECK(negative == 0);
+      CHECK(refused == 0);
+    }
+  }
 }
 
 TEST_CASE("methods with alternatives: renaming and variants") {
@@ -212,6 +247,14 @@ TEST_CASE("normalisation policies") {
   d = vec({1e300, 1e300});
   normalize(d, Normalization::L2);
   CHECK(d(0) == doctest::Approx(std::sqrt(0.5)));
+  // Nor in the z-score, whose mean and deviations overflowed to NaN.
+  d = vec({1e308, 1.5e308, 1.7e308});
+  normalize(d, Normalization::ZScore);
+  REQUIRE(d.allFinite());
+  CHECK(d.sum() == doctest::Approx(0.0).epsilon(1e-12));
+  CHECK(d.squaredNorm() / 3 == doctest::Approx(1.0));
+  CHECK(d(0) < d(1));
+  CHECK(d(1) < d(2));
   d = vec({1, -1});
   CHECK_THROWS_AS(normalize(d, Normalization::L2), InvalidArgument);
   d = vec({1, std::numeric_limits<double>::quiet_NaN()});

@@ -153,4 +153,37 @@ TEST_CASE("patch classifiers recognise tests drawn from their own training data"
       CHECK(a == b);
     }
   }
+  // A contact point beyond the float registration's range is refused naming
+  // its touch (it was inf in the cloud), in a test and in a reference.
+  TouchSet far = select_touches(objects[1], std::vector<Index>{2, 4, 6});
+  far.contact_points(1, far.contact_offsets[1] + 4) = 1e20;
+  Eigen::VectorXd d(3);
+  try {
+    patch.distances(far, d);
+    FAIL("accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "test.contact_points");
+    CHECK_MESSAGE(std::string(e.what()).find("touch 1: coordinate 1e+20 is beyond the float") != std::string::npos,
+                  e.what());
+  }
+  labeled.distances(far, d);  // double holds it
+  CHECK(d.allFinite());
+  auto refs = objects;
+  refs[2] = far;
+  try {
+    patch.fit(refs, 4);
+    FAIL("accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "objects[2].contact_points");
+  }
+  // In double range, but 5e22 voxels from the origin: the cell index would
+  // overflow (its cast was undefined behaviour).
+  try {
+    labeled.fit(refs, 4);
+    FAIL("accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "reference_voxel");
+    CHECK_MESSAGE(std::string(e.what()).find("coordinate 1e+20 is 5e+22 voxels of 0.002") != std::string::npos,
+                  e.what());
+  }
 }

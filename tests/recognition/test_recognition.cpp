@@ -47,6 +47,17 @@ std::vector<TouchSet> per_object(const TouchTable& t, const WordIds& words) {
   return out;
 }
 
+/// "ARGUMENT | REASON" of the InvalidArgument `f` throws.
+template <typename F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const InvalidArgument& e) {
+    return std::string(e.argument()) + " | " + e.reason();
+  }
+  return "(no error)";
+}
+
 }  // namespace
 
 TEST_CASE("each classifier recognises tests drawn from its own training data") {
@@ -82,6 +93,11 @@ TEST_CASE("classifier inputs are validated") {
   TouchSet no_words;
   no_words.positions = Eigen::Matrix3Xd::Zero(3, 2);
   CHECK_THROWS_AS(bow.fit({no_words}, 4), EmptyInput);
+  TouchSet one_word = no_words;
+  one_word.words = WordIds::Zero(2);
+  // (A negative vocabulary reached Eigen's size assertion, an abort.)
+  CHECK(error_of([&] { bow.fit({one_word}, -1); }).find("vocabulary | ") == 0);
+  CHECK(error_of([&] { bow.fit({one_word}, 0); }).find("vocabulary | ") == 0);
   IcpClassifier<double> icp;
   TouchSet bad = no_words;
   bad.positions(1, 1) = std::numeric_limits<double>::quiet_NaN();
@@ -95,6 +111,54 @@ TEST_CASE("classifier inputs are validated") {
   TouchSet labeled = no_words;
   labeled.words = WordIds::Zero(2);
   CHECK_THROWS_AS(iclap.fit({labeled}, 4), InvalidArgument);
+}
+
+TEST_CASE("touch coordinates beyond the registration's scalar range are refused, naming the touch") {
+  // 1e300 m (a unit error) became inf in a float cloud and failed inside the
+  // registration as "test: non-finite value inf at row 0, column 5".
+  const TouchTable t = synthetic_table(1);
+  KMeansQuantizer<float> q = codebook(4);
+  q.fit(t.touches.features);
+  const auto objects = per_object(t, assign_words(q, t.touches.features));
+  auto far = objects;
+  far[1].positions(2, 5) = 1e300;
+  IclapClassifier<float> fc;
+  const std::string fit_error = error_of([&] { fc.fit(far, q.size()); });
+  CHECK_MESSAGE(fit_error.find("objects[1].positions | ") == 0, fit_error);
+  CHECK_MESSAGE(fit_error.find("touch 5: coordinate 1e+300 is beyond the float registration's range (|v| <= "
+                               "1.84467e+15)") != std::string::npos,
+                fit_error);
+  CHECK(fc.objects() == 0);  // nothing fitted
+
+  fc.fit(objects, q.size());
+  IclapClassifier<double> dc;
+  dc.fit(objects, q.size());
+  TouchSet test = select_touches(objects[0], std::vector<Index>{0, 1, 2, 3});
+  test.positions(0, 2) = -2e15;  // beyond float's range, within double's
+  Eigen::VectorXd d(3);
+  for (const std::string& e : {error_of([&] { fc.distances(test, d); }),
+                               error_of([&] { (void)fc.decide(test); }),
+                               error_of([&] { (void)fc.lower_bounds(test); }),
+                               error_of([&] { (void)fc.register_against(test, 1); })}) {
+    CHECK_MESSAGE(e.find("test.positions | ") == 0, e);
+    CHECK_MESSAGE(e.find("touch 2: coordinate -2e+15") != std::string::npos, e);
+  }
+  const std::string pool_error = error_of([&] { (void)fc.prepare_pool(test); });
+  CHECK_MESSAGE(pool_error.find("pool.positions | ") == 0, pool_error);
+  dc.distances(test, d);
+  CHECK(d.allFinite());
+  test.positions(1, 3) = 1e151;  // beyond double's range too
+  const std::string double_error = error_of([&] { dc.distances(test, d); });
+  CHECK_MESSAGE(double_error.find("test.positions | touch 3: coordinate 1e+151 is beyond the double") == 0,
+                double_error);
+
+  // A descriptor the float cloud cannot hold names the embedded point.
+  IclapNClassifier<4, float> fn;
+  fn.fit(objects, q.size());
+  TouchSet loud = select_touches(objects[2], std::vector<Index>{0, 1, 2});
+  loud.features(3, 1) = 3e38f;
+  const std::string feature_error = error_of([&] { fn.distances(loud, d); });
+  CHECK_MESSAGE(feature_error.find("test | embedded point 1: coordinate 3e+38 (row 6)") == 0, feature_error);
 }
 
 TEST_CASE("a touch table's rows are selected with their object, exploration and frame") {
@@ -386,6 +450,30 @@ TEST_CASE("cross validation refuses what it cannot do") {
   const TouchTable five = synthetic_table(5);
   CHECK_THROWS_AS(CrossValidation<>(five, only_bow, codebook(4), {parse_method("bow")}, s),
                   InvalidArgument);
+
+  // A grid without a vector for a method's terms is refused at construction
+  // naming the setting (run() threw "steps: ..." before).
+  CrossValidationSettings coarse;
+  coarse.weight_steps = 3;
+  const std::vector<Method> four = {parse_method("iclap+icp+bow+iclapn")};
+  CHECK(error_of([&] { CrossValidation<>(five, all_classifiers, codebook(4), four, coarse); })
+            .find("weight_steps | is 3, fewer than the 4 terms of method 'iclap+icp+bow+iclapn'") == 0);
+  coarse.zero_weights = true;
+  CHECK_NOTHROW(CrossValidation<>(five, all_classifiers, codebook(4), four, coarse));
+
+  // A hand-built table whose per-touch vectors disagree, or whose object
+  // index is out of range, is refused (both read out of bounds).
+  TouchTable wrong = five;
+  wrong.object.back() = static_cast<Index>(wrong.objects.size());
+  CHECK(error_of([&] { CrossValidation<>(wrong, only_bow, codebook(4), {parse_method("bow")}); })
+            .find("table.object | touch " + std::to_string(wrong.size() - 1) + " has object index 3, outside [0, 3)") ==
+        0);
+  wrong = five;
+  wrong.object.pop_back();
+  CHECK_THROWS_AS(CrossValidation<>(wrong, only_bow, codebook(4), {parse_method("bow")}), DimensionMismatch);
+  wrong = five;
+  wrong.frame.push_back(0);
+  CHECK_THROWS_AS(wrong.select({0, 1}), DimensionMismatch);
 }
 
 TEST_CASE("weights chosen on inner folds need 3 explorations of every object, fixed weights 2") {

@@ -95,6 +95,40 @@ TEST_CASE_TEMPLATE("a cloud too small for the scalar type is refused, not regist
   CHECK(Ref(TwoPoints::Constant(S(0.5))).size() == 2);
 }
 
+TEST_CASE_TEMPLATE("a cloud too large for the scalar type is refused, not registered to inf or NaN", S, float,
+                   double) {
+  // Beyond largest_coordinate<S>() (1.84467e+15 in float, 1.34078e+150 in
+  // double) squared distances overflow; points given in double beyond
+  // float's range were cast to inf.
+  const double too_large = std::is_same_v<S, float> ? 1e20 : 1e151;
+  const double fine = std::is_same_v<S, float> ? 1e14 : 1e140;
+  using Ref = ReferenceCloud<S, 3>;
+  const Eigen::MatrixXd unit = random_points(3, 40, 7);
+  try {
+    Ref r(too_large * unit);
+    FAIL("accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "points");
+    CHECK_MESSAGE(std::string(e.what()).find("overflow") != std::string::npos, e.what());
+  }
+  // So is a metric that stretches a cloud that far, and points the scalar
+  // type cannot hold at all (double's largest values overflow the centring).
+  CHECK_THROWS_AS(Ref(unit, Eigen::Vector3d::Constant(too_large)), InvalidArgument);
+  Eigen::MatrixXd huge = unit;
+  huge.row(0).setConstant(std::is_same_v<S, float> ? 1e39 : 1.7e308);
+  huge(0, 3) = -huge(0, 3);
+  CHECK_THROWS_AS(Ref{huge}, InvalidArgument);
+  // Farther from the origin than that but small is fine: the cloud is
+  // centred first (the test's coordinates are then the user's concern).
+  const Ref far_ok(((std::is_same_v<S, float> ? 1e5 : 1e140) * unit.array() +
+                    (std::is_same_v<S, float> ? 1e20 : 1e155)).matrix());
+  CHECK(far_ok.size() == 40);
+  const Ref ok(fine * unit);
+  CHECK(ok.size() == 40);
+  const auto r = Icp<S, 3>().align(ok, (fine * unit).cast<S>());
+  CHECK(r.T_model_test.t.allFinite());
+}
+
 TEST_CASE_TEMPLATE("point sets whose SVD gives det = -1 return a proper rotation", C, ICLAP_EXTREME_CONFIGS) {
   using S = typename C::Scalar;
   const Index d = C::dim;

@@ -10,6 +10,7 @@
 #include <numeric>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "iclap/search/kdtree.hpp"
@@ -322,6 +323,84 @@ TEST_CASE("k-means: bad input is a typed error naming argument, row and column")
   CHECK_THROWS_AS(q.assign(nan_feature), NonFiniteValue);
   CHECK_THROWS_AS(q.fit_from(x, Cloud<float, Eigen::Dynamic>::Zero(3, 3)), DimensionMismatch);
   CHECK_THROWS_AS(q.fit_from(x, Cloud<float, Eigen::Dynamic>::Zero(4, 2)), InvalidArgument);
+}
+
+TEST_CASE_TEMPLATE("k-means: features whose squared distances the scalar type cannot hold are refused", T, float,
+                   double) {
+  using C = Cloud<T, Eigen::Dynamic>;
+  const bool is_float = std::is_same_v<T, float>;
+  // Beyond largest_coordinate: every squared distance of a negative feature
+  // to the positive seeds overflowed, it had no nearest centre, and its
+  // index -1 was used (heap-buffer-overflow).
+  C huge(1, 8);
+  const T big = static_cast<T>(is_float ? 3e19 : 1e160);
+  huge << -big, -0.9f * big, -0.8f * big, -0.7f * big, big, 0.9f * big, 0.8f * big, 0.7f * big;
+  KMeansQuantizer<T> q;
+  q.settings.k = 2;
+  try {
+    q.fit(huge);
+    FAIL("accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "features");
+    CHECK_MESSAGE(std::string(e.what()).find("at row 0, column 0 is beyond the") != std::string::npos, e.what());
+  }
+  CHECK(!q.fitted());
+  CHECK_THROWS_AS(q.fit_from(C::Constant(1, 8, T(1)), huge.leftCols(2)), InvalidArgument);
+  CHECK_THROWS_AS((void)KMeansQuantizer<T>::from_centres(huge.leftCols(2)), InvalidArgument);
+  // Below smallest_spread: squared distances underflowed, distinct features
+  // looked identical ("k = 2 exceeds the number of distinct features (1)"
+  // for 6 distinct ones) and pruned labels differed from plain Lloyd's.
+  C tiny(1, 6);
+  const T small = static_cast<T>(is_float ? 1e-25 : 1e-200);
+  for (Index j = 0; j < 6; ++j) tiny(0, j) = small * static_cast<T>(j);
+  try {
+    q.fit(tiny);
+    FAIL("accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "features");
+    CHECK_MESSAGE(std::string(e.what()).find("underflow") != std::string::npos, e.what());
+  }
+  // Within range at both ends it fits, and a test feature out of range is
+  // refused by assign() naming it.
+  huge /= static_cast<T>(is_float ? 1e5 : 1e11);
+  q.fit(huge);
+  CHECK(q.assign(huge.col(0)) != q.assign(huge.col(4)));
+  Eigen::Matrix<T, Eigen::Dynamic, 1> far(1);
+  far(0) = big;
+  try {
+    (void)q.assign(far);
+    FAIL("accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "feature");
+  }
+}
+
+TEST_CASE_TEMPLATE("k-means: pruned labels equal plain Lloyd's at the smallest spread allowed", T, float, double) {
+  // All features at 1e-21 (float) made the pruned labels differ from plain
+  // Lloyd's (their squared distances are subnormal, outside the pruning's
+  // relative margin); such features are now refused (above). At a spread
+  // just above smallest_spread, features within `step` of one another near
+  // 0 still have subnormal or zero squared distances; the labels must stay
+  // those of plain Lloyd.
+  const bool is_float = std::is_same_v<T, float>;
+  const double step = is_float ? 1e-23 : 1e-162, high = is_float ? 2e-12 : 2e-138;
+  for (std::uint64_t seed = 0; seed < 16; ++seed) {
+    Rng rng(500 + seed);
+    Cloud<T, Eigen::Dynamic> x(1, 120);
+    for (Index j = 0; j < x.cols(); ++j)
+      x(0, j) = static_cast<T>(j < 100 ? step * rng.uniform(0, 1) : high * (0.5 + 0.5 * rng.uniform(0, 1)));
+    KMeansQuantizer<T> pruned, plain;
+    pruned.settings.k = plain.settings.k = 12;
+    pruned.settings.seed = plain.settings.seed = seed;
+    plain.settings.pruning = false;
+    const auto a = pruned.fit(x);
+    const auto b = plain.fit(x);
+    CAPTURE(seed);
+    CHECK(a.labels == b.labels);
+    CHECK(a.inertia == b.inertia);
+    CHECK(bitwise_equal(pruned.centres(), plain.centres()));
+    CHECK(assign_words(pruned, x) == a.labels);
+  }
 }
 
 TEST_CASE("k-means: iteration limit, progress and from_centres") {

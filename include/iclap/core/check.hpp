@@ -2,7 +2,9 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <string>
+#include <type_traits>
 
 #include <Eigen/Core>
 
@@ -28,6 +30,46 @@ template <typename Derived>
 void check_not_empty(const Eigen::DenseBase<Derived>& m, const std::string& argument) {
   if (m.cols() == 0) throw EmptyInput(argument, "has no points");
   if (m.rows() == 0) throw EmptyInput(argument, "has dimension 0");
+}
+
+/// The largest coordinate magnitude a registration in `Scalar` takes:
+/// 1e-4 of the square root of the type's largest value (1.84467e+15 for
+/// float, 1.34078e+150 for double), so that squared distances, and their
+/// sums over up to 1e8 terms, stay finite. Beyond it a coordinate is a
+/// unit error or corruption (1e300 m cast to float is inf).
+template <typename Scalar>
+double largest_coordinate() {
+  static_assert(std::numeric_limits<Scalar>::max() <= std::numeric_limits<double>::max(),
+                "iclap: largest_coordinate is for float and double");
+  return 1e-4 * std::sqrt(static_cast<double>(std::numeric_limits<Scalar>::max()));
+}
+
+/// The smallest spread (largest coordinate difference) a point set may have
+/// in `Scalar` when it has any: sqrt(min normal) / epsilon (9.1e-13 for
+/// float, 6.7e-139 for double). Below it squared distances underflow to
+/// subnormals or zero, and distinct points look identical.
+template <typename Scalar>
+double smallest_spread() {
+  return std::sqrt(static_cast<double>(std::numeric_limits<Scalar>::min())) /
+         static_cast<double>(std::numeric_limits<Scalar>::epsilon());
+}
+
+/// Throws InvalidArgument naming `argument`, the value, its row and its
+/// column when a coefficient of `m` is beyond largest_coordinate<Scalar>()
+/// (NaN included): its squared distances would overflow.
+template <typename Scalar, typename Derived>
+void check_coordinate_range(const Eigen::DenseBase<Derived>& m, const std::string& argument) {
+  const double limit = largest_coordinate<Scalar>();
+  for (Eigen::Index c = 0; c < m.cols(); ++c)
+    for (Eigen::Index r = 0; r < m.rows(); ++r) {
+      const auto v = static_cast<double>(m(r, c));
+      if (!(std::abs(v) <= limit))
+        throw InvalidArgument(argument, "value " + format_value(v) + " at row " + std::to_string(r) + ", column " +
+                                            std::to_string(c) + " is beyond the " +
+                                            (std::is_same_v<Scalar, float> ? "float" : "double") +
+                                            " range of distances (|v| <= " + format_value(limit) +
+                                            "): squared distances would overflow; rescale");
+    }
 }
 
 /// Throws DimensionMismatch naming `argument` when `actual != expected`.

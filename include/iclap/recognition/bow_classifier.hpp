@@ -21,6 +21,8 @@ class BowClassifier final : public Classifier {
   /// Throws EmptyInput naming "objects[j].words" for an object without words.
   void fit(const std::vector<TouchSet>& objects, Index vocabulary) override {
     if (objects.empty()) throw EmptyInput("objects", "no object to recognise");
+    if (vocabulary < 1)
+      throw InvalidArgument("vocabulary", "must be at least 1 word, got " + std::to_string(vocabulary));
     Eigen::MatrixXd h(vocabulary, static_cast<Index>(objects.size()));
     for (std::size_t j = 0; j < objects.size(); ++j) {
       if (objects[j].words.size() == 0) throw EmptyInput("objects[" + std::to_string(j) + "].words");

@@ -152,7 +152,8 @@ class CrossValidation {
  public:
   /// Throws at construction for an empty method list or a method that needs
   /// a classifier the factory does not make (InvalidArgument naming
-  /// "methods"), for invalid settings, and (naming "table") for an object
+  /// "methods"), for invalid settings, for a table whose per-touch vectors
+  /// disagree (TouchTable::validate), and (naming "table") for an object
   /// with fewer than 2 explorations, or fewer than 3 when a method's weights
   /// or trimming are chosen on inner folds.
   CrossValidation(const TouchTable& table, ClassifierFactory factory, Quantizer quantizer, std::vector<Method> methods,
@@ -165,10 +166,23 @@ class CrossValidation {
     settings_.validate();
     if (!factory_) throw InvalidArgument("factory", "is empty");
     if (methods_.empty()) throw EmptyInput("methods", "no method to evaluate");
-    for (const auto& m : methods_) m.validate();
+    for (const auto& m : methods_) {
+      m.validate();
+      // The weight grid needs a step for every term unless weights may be 0
+      // (weight_grid's condition; found at run() before, naming "steps").
+      if (m.fit_weights && !settings_.zero_weights)
+        for (const auto& c : m.candidates())
+          if (settings_.weight_steps < static_cast<int>(c.children().size()))
+            throw InvalidArgument("weight_steps", "is " + std::to_string(settings_.weight_steps) + ", fewer than the " +
+                                                      std::to_string(c.children().size()) + " terms of method '" +
+                                                      m.name + "' (" + c.to_string() +
+                                                      "), each weighted at least one step; raise it or allow zero "
+                                                      "weights");
+    }
     Recognizer probe(factory_(), settings_.normalization);
     probe.check(methods_);
     if (table_.size() == 0) throw EmptyInput("table", "holds no touch");
+    table_.validate("table");
     // A method chosen in training holds out each of a fold's training
     // explorations in turn (inner folds); an object with 2 explorations has
     // only 1 training exploration per fold, and nothing left to fit on.

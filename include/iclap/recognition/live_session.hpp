@@ -348,6 +348,7 @@ class LiveReferences {
         fusion_(std::move(fusion)),
         feature_length_(table.touches.features.rows()) {
     if (table.size() == 0) throw EmptyInput("table", "holds no touch");
+    table.validate("table");
     recognizer_.check({Method{fusion_.to_string(), fusion_, false, {}}});
     std::vector<Index> all;
     const std::vector<Index>* use = &train;

@@ -124,12 +124,17 @@ class MethodParser {
       skip();
       double w = 0;
       if (pos_ < s_.size() && (std::isdigit(static_cast<unsigned char>(s_[pos_])) || s_[pos_] == '.')) {
+        const std::size_t start = pos_;
         const char* begin = s_.c_str() + pos_;
         char* end = nullptr;
         w = std::strtod(begin, &end);
         pos_ += static_cast<std::size_t>(end - begin);
-        if (!eat('*')) fail("a weight must be followed by '*'");
-        ++weighted;
+        if (pos_ < s_.size() && is_name_char(s_[pos_])) {
+          pos_ = start;  // a name that starts with digits ("3d"), not a weight
+        } else {
+          if (!eat('*')) fail("a weight must be followed by '*'");
+          ++weighted;
+        }
       }
       terms.emplace_back(w, product());
     } while (eat('+'));
@@ -164,10 +169,14 @@ class MethodParser {
     }
     skip();
     const std::size_t start = pos_;
-    while (pos_ < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[pos_])) || s_[pos_] == '_')) ++pos_;
+    // Letters, digits, '_', and '-' after the first character: with_variants
+    // names variants "patch-trim50".
+    while (pos_ < s_.size() && (is_name_char(s_[pos_]) || (pos_ > start && s_[pos_] == '-'))) ++pos_;
     if (pos_ == start) fail("expected a classifier name");
     return Fusion::classifier(s_.substr(start, pos_ - start));
   }
+
+  static bool is_name_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
 
   std::string s_;
   std::size_t pos_ = 0;
@@ -178,14 +187,17 @@ class MethodParser {
 /// Parses a method: a classifier name ("iclap"), a sum whose weights are
 /// fitted ("iclap+icp+bow"), a sum with fixed weights
 /// ("0.6*iclap+0.2*icp+0.2*bow"), a product ("iclap*icp*bow") or any nesting
-/// ("0.5*(icp*bow)+0.5*iclap"). The method's name is `spec` with spaces
-/// removed. Throws InvalidArgument naming "method" (syntax, with the
-/// position) or "weights" (bad fixed weights).
+/// ("0.5*(icp*bow)+0.5*iclap"). A classifier name is letters, digits, '_'
+/// and (not first) '-', as in with_variants' "patch-trim50"; a number is a
+/// weight only before '*'. Spaces may separate tokens, not split a name or a
+/// number. The method's name is `spec` with spaces removed. Throws
+/// InvalidArgument naming "method" (syntax, with the position in `spec`) or
+/// "weights" (bad fixed weights).
 inline Method parse_method(const std::string& spec) {
+  auto [fusion, fit] = detail::MethodParser(spec).parse();
   std::string name;
   for (char c : spec)
     if (!std::isspace(static_cast<unsigned char>(c))) name += c;
-  auto [fusion, fit] = detail::MethodParser(name).parse();
   return Method{name, std::move(fusion), fit, {}};
 }
 
@@ -221,10 +233,12 @@ inline std::vector<std::vector<double>> weight_grid(int terms, int steps = 10, b
       parts[static_cast<std::size_t>(index)] = left;
       std::vector<double> w;
       for (int p : parts) w.push_back(static_cast<double>(p) / static_cast<double>(steps));
-      // Make the sum exactly 1 despite rounding of the tenths.
+      // Make the sum 1 despite rounding of the tenths, except for a last
+      // weight of 0, which stays 0: 1 - total was -2.2e-16 for 5 terms of
+      // tenths with zero weights, refused by Fusion as a negative weight.
       double total = 0;
       for (std::size_t i = 0; i + 1 < w.size(); ++i) total += w[i];
-      w.back() = 1.0 - total;
+      if (parts.back() > 0) w.back() = 1.0 - total;
       out.push_back(std::move(w));
       return;
     }

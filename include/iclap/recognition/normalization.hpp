@@ -70,6 +70,11 @@ inline void normalize(Eigen::Ref<Eigen::VectorXd> d, Normalization kind) {
       break;
     }
     case Normalization::ZScore: {
+      // The z-score does not change with the scale: distances whose sum or
+      // squared deviations would overflow (1e308) are scaled down first;
+      // they became NaN. Others are left as they are, bit for bit.
+      const double m = d.maxCoeff();
+      if (m > 1e150) d /= m;
       const double mean = d.mean();
       const double sd = std::sqrt((d.array() - mean).square().mean());
       if (sd > 0) d = (d.array() - mean) / sd;

@@ -160,9 +160,16 @@ struct ContactEmbedding {
     std::map<Key, std::pair<Eigen::Vector3d, Index>> cells;
     auto add = [&](const Eigen::Vector3d& p, Index word) {
       Key key{0, 0, 0, Labeled ? static_cast<long long>(word) : 0};
-      for (int a = 0; a < 3; ++a)
-        key[static_cast<std::size_t>(a)] =
-            reference_voxel > 0 ? static_cast<long long>(std::floor(p(a) / reference_voxel)) : 0;
+      for (int a = 0; a < 3; ++a) {
+        const double cell = reference_voxel > 0 ? std::floor(p(a) / reference_voxel) : 0.0;
+        // (A cast of a cell index beyond long long's range is undefined.)
+        if (!(std::abs(cell) < 0x1p62))
+          throw InvalidArgument("reference_voxel", "coordinate " + format_value(p(a)) + " is " + format_value(cell) +
+                                                       " voxels of " + format_value(reference_voxel) +
+                                                       " from the origin, beyond the cell index range; use a "
+                                                       "larger voxel, or 0 for none");
+        key[static_cast<std::size_t>(a)] = static_cast<long long>(cell);
+      }
       auto it = cells.find(key);
       if (it == cells.end()) it = cells.emplace(key, std::make_pair(Eigen::Vector3d::Zero().eval(), Index(0))).first;
       it->second.first += p;
@@ -355,10 +362,12 @@ class RegistrationClassifier final : public Classifier {
       const std::string arg = "objects[" + std::to_string(j) + "]";
       objects[j].validate(arg);
       check_embedded_dimension(objects[j], arg);
+      check_touch_range(objects[j], arg);  // before the embedding, which may bin the coordinates
       if constexpr (detail::has_embed_reference<Embedding, Scalar, Dim>::value)
         embedding.template embed_reference<Scalar, Dim>(objects[j], points);
       else
         embedding.template embed<Scalar, Dim>(objects[j], points);
+      check_range(objects[j], points, arg);
       if (max_reference_points > 0 && points.cols() > max_reference_points) {
         Cloud<Scalar, Dim> kept(points.rows(), max_reference_points);
         for (Index k = 0; k < max_reference_points; ++k)
@@ -426,6 +435,7 @@ class RegistrationClassifier final : public Classifier {
       for (Index i = 0; i < pool.size(); ++i)
         points.middleCols(prepared->offsets[static_cast<std::size_t>(i)], parts[static_cast<std::size_t>(i)].cols()) =
             parts[static_cast<std::size_t>(i)];
+      check_range(pool, points, "pool");
       IcpWorkspace<Scalar, Dim> ws;
       prepared->matches.resize(references_.size());
       for (std::size_t j = 0; j < references_.size(); ++j)
@@ -464,7 +474,7 @@ class RegistrationClassifier final : public Classifier {
     test.validate("test");
     check_embedded_dimension(test, "test");
     Cloud<Scalar, Dim> points;
-    embedding.template embed<Scalar, Dim>(test, points);
+    embed_checked(test, points, "test");
     return bound_is_valid() ? lower_bounds_of(points) : Eigen::VectorXd::Zero(objects());
   }
 
@@ -483,7 +493,7 @@ class RegistrationClassifier final : public Classifier {
     test.validate("test");
     check_embedded_dimension(test, "test");
     Cloud<Scalar, Dim> points;
-    embedding.template embed<Scalar, Dim>(test, points);
+    embed_checked(test, points, "test");
     const Index n = objects();
     const bool bounded = bound_is_valid();
     const Eigen::VectorXd lb = bounded ? lower_bounds_of(points) : Eigen::VectorXd::Zero(n);
@@ -601,8 +611,10 @@ class RegistrationClassifier final : public Classifier {
   typename IcpType::Result register_against(const TouchSet& test, Index object) const {
     if (object < 0 || object >= objects())
       throw InvalidArgument("object", std::to_string(object) + " is outside [0, " + std::to_string(objects()) + ")");
+    test.validate("test");
+    check_embedded_dimension(test, "test");
     Cloud<Scalar, Dim> points;
-    embedding.template embed<Scalar, Dim>(test, points);
+    embed_checked(test, points, "test");
     return icp.align(references_[static_cast<std::size_t>(object)], points);
   }
 
@@ -679,7 +691,7 @@ class RegistrationClassifier final : public Classifier {
     thread_local Cloud<Scalar, Dim> points;
     thread_local IcpWorkspace<Scalar, Dim> workspace;
     thread_local std::vector<Neighbor<Scalar>> given;
-    embedding.template embed<Scalar, Dim>(test, points);
+    embed_checked(test, points, "test");
     const auto starts = initial_guesses(points);
     for (std::size_t j = 0; j < references_.size(); ++j) {
       double best = std::numeric_limits<double>::infinity();
@@ -701,6 +713,63 @@ class RegistrationClassifier final : public Classifier {
       }
       out(static_cast<Index>(j)) = best;
     }
+  }
+
+  void embed_checked(const TouchSet& s, Cloud<Scalar, Dim>& points, const std::string& arg) const {
+    embedding.template embed<Scalar, Dim>(s, points);
+    check_range(s, points, arg);
+  }
+
+  /// Throws InvalidArgument when a coordinate of the embedded `points` of
+  /// touches `s` is beyond largest_coordinate<Scalar>() (inf after a cast to
+  /// float included): it names `arg`.positions or `arg`.contact_points and
+  /// the touch when one of those is the cause (1e300 m, a unit error, became
+  /// inf in a float cloud and failed inside the registration as "non-finite
+  /// value inf at row 0, column 5"), otherwise the embedded point. One pass
+  /// over the points when they are in range.
+  static void check_range(const TouchSet& s, const Cloud<Scalar, Dim>& points, const std::string& arg) {
+    const double limit = largest_coordinate<Scalar>();
+    const auto beyond = [limit](double v) { return !(std::abs(v) <= limit); };
+    Index bad = -1;
+    for (Index j = 0; j < points.cols() && bad < 0; ++j)
+      for (Index r = 0; r < points.rows(); ++r)
+        if (beyond(static_cast<double>(points(r, j)))) bad = j;
+    if (bad < 0) return;
+    check_touch_range(s, arg);
+    Index row = 0;
+    while (row + 1 < points.rows() && !beyond(static_cast<double>(points(row, bad)))) ++row;
+    throw InvalidArgument(arg, "embedded point " + std::to_string(bad) + ": coordinate " +
+                                   format_value(static_cast<double>(points(row, bad))) + " (row " +
+                                   std::to_string(row) + ")" + range_text() + "; rescale the features");
+  }
+
+  static std::string range_text() {
+    return std::string(" is beyond the ") + (std::is_same_v<Scalar, float> ? "float" : "double") +
+           " registration's range (|v| <= " + format_value(largest_coordinate<Scalar>()) + ")";
+  }
+
+  /// Throws InvalidArgument naming `arg`.positions or `arg`.contact_points
+  /// and the touch for a coordinate beyond largest_coordinate<Scalar>().
+  static void check_touch_range(const TouchSet& s, const std::string& arg) {
+    const double limit = largest_coordinate<Scalar>();
+    const auto beyond = [limit](double v) { return !(std::abs(v) <= limit); };
+    const std::string range = range_text();
+    for (Index i = 0; i < s.size(); ++i)
+      for (Index r = 0; r < 3; ++r)
+        if (beyond(s.positions(r, i)))
+          throw InvalidArgument(arg + ".positions", "touch " + std::to_string(i) + ": coordinate " +
+                                                        format_value(s.positions(r, i)) + range +
+                                                        "; check the unit of the positions");
+    if (s.has_contacts())
+      for (Index c = 0; c < s.contact_points.cols(); ++c)
+        for (Index r = 0; r < 3; ++r)
+          if (beyond(s.contact_points(r, c))) {
+            const auto touch = std::upper_bound(s.contact_offsets.begin(), s.contact_offsets.end(), c) -
+                               s.contact_offsets.begin() - 1;
+            throw InvalidArgument(arg + ".contact_points", "touch " + std::to_string(touch) + ": coordinate " +
+                                                               format_value(s.contact_points(r, c)) + range +
+                                                               "; check the unit of the positions");
+          }
   }
 
   void check_embedded_dimension(const TouchSet& s, const std::string& arg) const {

@@ -34,11 +34,29 @@ struct TouchTable {
 
   Index size() const noexcept { return touches.size(); }
 
+  /// Throws DimensionMismatch naming `argument`.object / .exploration /
+  /// .frame when one of them does not hold one entry per touch, and
+  /// InvalidArgument naming `argument`.object for an object index outside
+  /// [0, objects.size()) (a table built by hand; make_touch_table's are
+  /// consistent). The touches themselves are checked by the classifiers.
+  void validate(const std::string& argument = "table") const {
+    check_dimension(static_cast<Index>(object.size()), size(), argument + ".object (touches)");
+    check_dimension(static_cast<Index>(exploration.size()), size(), argument + ".exploration (touches)");
+    check_dimension(static_cast<Index>(frame.size()), size(), argument + ".frame (touches)");
+    for (std::size_t i = 0; i < object.size(); ++i)
+      if (object[i] < 0 || object[i] >= static_cast<Index>(objects.size()))
+        throw InvalidArgument(argument + ".object", "touch " + std::to_string(i) + " has object index " +
+                                                        std::to_string(object[i]) + ", outside [0, " +
+                                                        std::to_string(objects.size()) + ") (the object names)");
+  }
+
   /// The touches at `rows` (indices into this table, in that order) as a
   /// table of their own, e.g. to drop explorations or objects' touches. The
   /// object list is kept whole, so object indices stay valid; idle_frames is
-  /// 0. Throws InvalidArgument naming "rows" for an index outside [0, size()).
+  /// 0. Throws InvalidArgument naming "rows" for an index outside [0, size()),
+  /// and what validate("table") throws.
   TouchTable select(const std::vector<Index>& rows) const {
+    validate("table");
     for (std::size_t k = 0; k < rows.size(); ++k)
       if (rows[k] < 0 || rows[k] >= size())
         throw InvalidArgument("rows", "index " + std::to_string(rows[k]) + " at position " + std::to_string(k) +
@@ -150,6 +168,10 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
     t.frame[ju] = f.frame;
     const auto feature = descriptor.compute(TactileImage(f.pressures));
     if (j == 0) t.touches.features.resize(feature.size(), n);
+    // (A descriptor's length follows the image size, which a hand-built
+    // dataset may vary: a shorter feature was cut, a longer one read past.)
+    check_dimension(feature.size(), t.touches.features.rows(),
+                    "features of dataset.frames[" + std::to_string(kept[ju]) + "]");
     t.touches.features.col(j) = feature.template cast<float>();
     offsets.push_back(offsets.back() + append_contact_points(f, contact_threshold, pitch, contacts));
     if (progress && (j % 256 == 0 || j + 1 == n)) progress(static_cast<std::size_t>(j + 1), kept.size());

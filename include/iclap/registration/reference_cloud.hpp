@@ -35,7 +35,10 @@ namespace iclap {
 /// weighted distance from its centroid is below sqrt(min normal) / epsilon
 /// (about 1e-12 in float, 1e-138 in double) is refused, since its squared
 /// distances underflow and a registration would stop at once, "converged"
-/// at its initial transform.
+/// at its initial transform; so is one whose largest weighted distance is
+/// beyond `largest_coordinate<Scalar>()` (1.8e15 in float, 1.3e150 in
+/// double), whose squared distances would overflow (given in double to a
+/// float cloud, 1e39 became inf).
 ///
 /// Immutable after construction; copies share the search structure; const
 /// use is thread-safe.
@@ -60,7 +63,7 @@ class ReferenceCloud {
 
   /// Weighted metric. Weights must be finite and > 0, one per coordinate
   /// (errors name `weights`). InvalidArgument naming `points` for a cloud
-  /// too small for the scalar type (see above).
+  /// too small or too large for the scalar type (see above).
   template <typename Derived, typename WeightsDerived>
   ReferenceCloud(const Eigen::MatrixBase<Derived>& points, const Eigen::MatrixBase<WeightsDerived>& weights,
                  const typename Search::Settings& search_settings = {}) {
@@ -90,19 +93,30 @@ class ReferenceCloud {
       throw InvalidArgument("weights", "the largest weight is " + format_value(static_cast<double>(ratio)) +
                                            " times the smallest, beyond the scalar type's range");
     centroid_ = centroid_of(points);
+    if (!centroid_.allFinite())
+      throw InvalidArgument("points", "their centroid is beyond the scalar type's range (given in double to a float "
+                                      "cloud, or near the largest double); shift the points nearer the origin");
     CloudType work(points.rows(), points.cols());
     const Point<Acc, Dim> c = centroid_acc_;
     const Point<Acc, Dim> w = weights_.template cast<Acc>();
     for (Index j = 0; j < points.cols(); ++j)
       work.col(j) = (w.cwiseProduct(points.col(j).template cast<Acc>() - c)).template cast<Scalar>();
-    const Acc spread = static_cast<Acc>(work.cwiseAbs().maxCoeff());
-    const Acc smallest = std::sqrt(static_cast<Acc>(std::numeric_limits<Scalar>::min())) /
-                         static_cast<Acc>(std::numeric_limits<Scalar>::epsilon());
+    // (Not finite when the centring or the cast overflowed.)
+    const Acc spread = work.allFinite() ? static_cast<Acc>(work.cwiseAbs().maxCoeff())
+                                        : std::numeric_limits<Acc>::infinity();
+    const auto smallest = static_cast<Acc>(smallest_spread<Scalar>());
     if (spread > 0 && spread < smallest)
       throw InvalidArgument("points", "largest weighted distance from the centroid is " +
                                           format_value(static_cast<double>(spread)) + ", below " +
                                           format_value(static_cast<double>(smallest)) +
                                           ": squared distances at this scale underflow the scalar type; rescale "
+                                          "the points or the weights");
+    const double largest = largest_coordinate<Scalar>();
+    if (!(static_cast<double>(spread) <= largest))
+      throw InvalidArgument("points", "largest weighted distance from the centroid is " +
+                                          format_value(static_cast<double>(spread)) + ", beyond " +
+                                          format_value(largest) +
+                                          ": squared distances at this scale overflow the scalar type; rescale "
                                           "the points or the weights");
     search_ = Search(std::move(work), search_settings);
   }

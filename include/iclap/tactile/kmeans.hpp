@@ -169,6 +169,7 @@ class KMeansQuantizer {
   static KMeansQuantizer from_centres(Features centres, const Settings& s = {}) {
     check_not_empty(centres, "centres");
     check_finite(centres, "centres");
+    check_coordinate_range<Scalar>(centres, "centres");
     KMeansQuantizer q(s);
     q.settings.k = centres.cols();
     q.install(std::move(centres));
@@ -179,7 +180,9 @@ class KMeansQuantizer {
   /// seeding. Throws, leaving the quantizer unchanged: EmptyInput naming
   /// "features"; NonFiniteValue naming "features" with the row (coordinate)
   /// and column (feature index) of the first NaN or infinity;
-  /// InvalidArgument naming "settings.k" when k < 1 or k exceeds the number
+  /// InvalidArgument naming "features" for values whose squared distances
+  /// the scalar type cannot hold (beyond largest_coordinate, or a spread
+  /// below smallest_spread: see check.hpp); InvalidArgument naming "settings.k" when k < 1 or k exceeds the number
   /// of features or of distinct features (the message gives both numbers),
   /// or naming another setting out of range. `progress` gets (iteration,
   /// max_iterations). Cost O(iterations x n x k x d) without pruning; with
@@ -209,6 +212,7 @@ class KMeansQuantizer {
     check_not_empty(initial_centres, "initial_centres");
     check_dimension(initial_centres.rows(), features.rows(), "initial_centres");
     check_finite(initial_centres, "initial_centres");
+    check_coordinate_range<Scalar>(initial_centres, "initial_centres");
     if (initial_centres.cols() != settings.k)
       throw InvalidArgument("initial_centres", "has " + std::to_string(initial_centres.cols()) +
                                                    " columns but settings.k is " + std::to_string(settings.k));
@@ -233,7 +237,8 @@ class KMeansQuantizer {
   Index assign(const Scalar* feature) const { return nearest(feature).index; }
 
   /// Same for an Eigen vector; throws DimensionMismatch naming "feature" for
-  /// a wrong length and NonFiniteValue for NaN or infinity.
+  /// a wrong length, NonFiniteValue for NaN or infinity and InvalidArgument
+  /// for a value beyond largest_coordinate<Scalar>().
   template <typename Derived>
   Index assign(const Eigen::MatrixBase<Derived>& feature) const {
     return nearest(feature).index;
@@ -255,6 +260,7 @@ class KMeansQuantizer {
     check_dimension(feature.rows(), dim(), "feature");
     const Feature f = feature.template cast<Scalar>();
     check_finite(f, "feature");
+    check_coordinate_range<Scalar>(f, "feature");
     return search_.nearest(f.data());
   }
 
@@ -280,9 +286,23 @@ class KMeansQuantizer {
                             "must be finite and >= 0, got " + std::to_string(settings.relative_tolerance));
   }
 
+  /// Also refuses features the kernel's squared distances cannot hold in
+  /// Scalar: a value beyond largest_coordinate (they overflow; a feature at
+  /// infinite distance from every centre had no word, and its index -1 was
+  /// used), or a spread below smallest_spread (they underflow: distinct
+  /// features looked identical and the pruning's margins did not hold).
   static void check_features(const Features& features) {
     check_not_empty(features, "features");
     check_finite(features, "features");
+    check_coordinate_range<Scalar>(features, "features");
+    double spread = 0.0;
+    for (Index j = 1; j < features.cols(); ++j)
+      spread = std::max(spread, (features.col(j) - features.col(0)).template cast<double>().cwiseAbs().maxCoeff());
+    if (spread > 0.0 && spread < smallest_spread<Scalar>())
+      throw InvalidArgument("features", "largest coordinate difference is " + format_value(spread) + ", below " +
+                                            format_value(smallest_spread<Scalar>()) +
+                                            ": squared distances at this scale underflow the scalar type; rescale "
+                                            "the features");
   }
 
   InvalidArgument too_many_words(Index distinct) const {
