@@ -54,6 +54,13 @@ write("stream_parser", "oversize_bound_200", b"\x05\x21" + b"\xaa\xaa\xaa\x00\x2
 write("stream_parser", "huge_size_field", b"\x0d\x02" + b"\xaa\xaa\xaa\x00\x60\xea\x01\x02" + frame(5, 14, 6))
 write("stream_parser", "nested_loop", b"\x03\x05" + packet(0x06, reply(0x23)) + frame(6, 1, 1))
 write("stream_parser", "out_of_range", b"\x11\x09" + packet(0x00, b"\x01\x00\x00\x00\x00" + b"\xff\xff" * 84) + packet(0x00, b"\x01\x00\x00\x00\x00" + b"\x00\x10" * 84))
+def nested_headers(length):
+    b = bytearray(b"\x55" * length)
+    for p in range(0, length - 7, 6):  # each header announces a packet ending at the block's end
+        b[p:p + 6] = b"\xaa\xaa\xaa\x01" + (length - p - 8).to_bytes(2, "little")
+    return bytes(b)
+# Worst case of the framer's inner-packet check (was O(L^3), now one CRC per header).
+write("stream_parser", "nested_headers", b"\x0d\x04" + nested_headers(600) + reply(0x23))
 write("stream_parser", "malformed", b"\x01\x01" + packet(0x00, b"\x01\x02") + packet(0x23, b"\x00") + packet(0x00, b"\x01\x02\x03\x04\x05\x06"))
 
 # --- dataset CSV ---------------------------------------------------------

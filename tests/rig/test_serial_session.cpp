@@ -7,6 +7,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -342,4 +343,115 @@ TEST_CASE("Pose specs") {
   CHECK_THROWS_AS(DatasetFrameSource(iclap::Dataset{}), iclap::EmptyInput);
   CHECK_THROWS_AS(ReplayPoseSource({}, "none"), iclap::EmptyInput);
   CHECK_THROWS_AS(FixedPoseSource(Pose{{0, std::nan(""), 0}, {}}), iclap::InvalidArgument);
+}
+
+// --- WtsSensor over an in-memory stream; DatasetFrameSource misuse ----------
+
+namespace {
+
+// Bytes the "sensor" has sent, handed out as they are read; counts reads.
+class MemoryStream final : public ByteStream {
+ public:
+  std::size_t read(std::uint8_t* buffer, std::size_t capacity, std::chrono::milliseconds) override {
+    ++reads;
+    const std::size_t n = std::min(capacity, pending.size() - at);
+    std::copy_n(pending.begin() + static_cast<std::ptrdiff_t>(at), n, buffer);
+    at += n;
+    return n;
+  }
+  void write(const std::uint8_t*, std::size_t, std::chrono::milliseconds) override {}
+  void close() noexcept override {}
+  bool is_open() const noexcept override { return true; }
+  const std::string& name() const noexcept override { return name_; }
+  void push(const Bytes& b) { pending.insert(pending.end(), b.begin(), b.end()); }
+
+  Bytes pending;
+  std::size_t at = 0;
+  std::size_t reads = 0;
+
+ private:
+  std::string name_ = "memory";
+};
+
+TactileFrame small_frame(std::uint32_t timestamp_ms) {
+  TactileFrame f;
+  f.timestamp_ms = timestamp_ms;
+  f.texels = TexelImage::Constant(2, 3, 100);
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("WtsSensor: max_queued_frames = 0 is refused") {
+  MemoryStream s;
+  WtsSensor::Settings st;
+  st.parser.grid = Grid{2, 3};
+  st.max_queued_frames = 0;  // used to be accepted, then pop_front() on an empty queue
+  try {
+    WtsSensor sensor(s, st);
+    FAIL("max_queued_frames = 0 was accepted");
+  } catch (const iclap::InvalidArgument& e) {
+    CHECK(e.argument() == "settings.max_queued_frames");
+  }
+  st.max_queued_frames = 1;
+  WtsSensor sensor(s, st);
+  s.push(encode_frame(small_frame(1)));
+  s.push(encode_frame(small_frame(2)));
+  auto f = sensor.next_frame(10ms);
+  REQUIRE(f);
+  CHECK(f->timestamp_ms == 1);
+}
+
+TEST_CASE("WtsSensor: next_frame(0ms) polls the stream") {
+  MemoryStream s;
+  WtsSensor::Settings st;
+  st.parser.grid = Grid{2, 3};
+  WtsSensor sensor(s, st);
+  CHECK_FALSE(sensor.next_frame(0ms));  // nothing sent yet
+  CHECK(s.reads >= 1);
+  s.push(encode_frame(small_frame(7)));
+  auto f = sensor.next_frame(0ms);  // used to return nothing without reading
+  REQUIRE(f);
+  CHECK(f->timestamp_ms == 7);
+  CHECK(s.at == s.pending.size());
+  CHECK_FALSE(sensor.next_frame(0ms));
+}
+
+TEST_CASE("WtsSensor: a matrix info grid no frame can carry is refused") {
+  MemoryStream s;
+  WtsSensor sensor(s);
+  s.push(encode_reply(Reply{wts_id::kGetMatrixInfo, 0, encode_matrix_info_payload(MatrixInfo{0, 14, 340, 340, 4095})}));
+  try {
+    sensor.query_matrix_info();
+    FAIL("a 14x0 grid was accepted");
+  } catch (const iclap::InvalidArgument& e) {
+    CHECK(e.argument() == "matrix info");
+    CHECK(std::string(e.what()).find("res_x=0") != std::string::npos);
+  }
+  CHECK_FALSE(sensor.grid());
+  s.push(encode_reply(Reply{wts_id::kGetMatrixInfo, 0, encode_matrix_info_payload(MatrixInfo{30, 20, 340, 340, 4095})}));
+  const MatrixInfo info = sensor.query_matrix_info();
+  CHECK(info.res_x == 30);
+  REQUIRE(sensor.grid());
+  CHECK(*sensor.grid() == Grid{20, 30});
+  CHECK(sensor.parser().max_payload() == 1205);  // 20x30 frames fit
+}
+
+TEST_CASE("DatasetFrameSource: last_frame() before any frame names the misuse") {
+  iclap::Dataset d;
+  d.rows = 1;
+  d.cols = 1;
+  iclap::Frame fr;
+  fr.pressures = Eigen::MatrixXd::Zero(1, 1);
+  d.frames.push_back(fr);
+  DatasetFrameSource src(d, "x.csv");
+  try {
+    (void)src.last_frame();  // used to throw std::out_of_range from vector::at
+    FAIL("no exception");
+  } catch (const iclap::InvalidArgument& e) {
+    CHECK(e.argument() == "last_frame");
+  }
+  PosedFrame pf;
+  REQUIRE(src.next(pf, 0ms) == FrameSource::Status::kFrame);
+  CHECK_NOTHROW((void)src.last_frame());
 }

@@ -340,3 +340,180 @@ TEST_CASE("Parser property: junk, truncated packets and single-bit flips lose on
   CHECK(total_damaged > 300);  // the property was exercised
   CHECK(total_intact > 1500);
 }
+
+// --- Framer: worst-case work, and feed() after finish() ---------------------
+
+namespace {
+
+// Junk of nested headers AA AA AA 01 <size> every 6 bytes, each announcing a
+// packet that ends exactly at the end of the block (so every one is a
+// complete candidate with a bad CRC inside all the earlier ones).
+Bytes nested_header_junk(std::size_t length, std::size_t& headers) {
+  Bytes b(length, 0x55);
+  headers = 0;
+  for (std::size_t p = 0; p + 8 <= length; p += 6, ++headers) {
+    b[p] = b[p + 1] = b[p + 2] = 0xAA;
+    b[p + 3] = 0x01;
+    const std::size_t size = length - p - 8;
+    b[p + 4] = static_cast<std::uint8_t>(size & 0xFF);
+    b[p + 5] = static_cast<std::uint8_t>(size >> 8);
+  }
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("Framer: junk of nested headers costs one CRC per preamble, whatever the chunking") {
+  // Each header used to be CRC-checked again inside every candidate that
+  // encloses it: (L/6)^2 / 2 CRCs of up to L bytes, O(L^3) (8 kB: seconds,
+  // 64 kB: an hour). Now every position is checked once.
+  const std::size_t length = 3000;
+  std::size_t headers = 0;
+  Bytes stream = nested_header_junk(length, headers);
+  const Bytes good = encode_reply(Reply{wts_id::kTare, 0, {}});
+  append(stream, good);
+  for (std::size_t chunk : {stream.size(), std::size_t{1}, std::size_t{97}}) {
+    CAPTURE(chunk);
+    PacketFramer f(kWtsMaxPayload);
+    std::vector<RawPacket> got;
+    for (std::size_t at = 0; at < stream.size(); at += chunk) {
+      f.feed(stream.data() + at, std::min(chunk, stream.size() - at));
+      while (auto p = f.next()) got.push_back(std::move(*p));
+    }
+    f.finish();
+    while (auto p = f.next()) got.push_back(std::move(*p));
+    REQUIRE(got.size() == 1);
+    CHECK(got[0].id == wts_id::kTare);
+    const auto& st = f.stats();
+    CHECK(st.crc_errors == headers);
+    CHECK(st.truncated == 0);
+    CHECK(st.oversize == 0);
+    CHECK(st.junk_bytes == length);
+    CHECK(st.packet_bytes == good.size());
+    // One CRC per header plus the good packet (the old code: over 100000).
+    CHECK(f.crc_computations() <= headers + 1);
+  }
+}
+
+TEST_CASE("Framer: a feed after finish() starts a new stream whether or not next() ran in between") {
+  const Bytes pkt = encode_reply(Reply{wts_id::kLoop, 0, Bytes{1, 2, 3, 4}});
+  const Bytes second = encode_reply(Reply{wts_id::kTare, 0, {}});
+  struct Result {
+    std::vector<std::uint8_t> ids;
+    FramerStats stats;
+  };
+  // Feeds `first`, finish(), optionally drains, then feeds `then` and drains.
+  const auto run = [](const Bytes& first, const Bytes& then, bool drain_between) {
+    PacketFramer f;
+    Result r;
+    f.feed(first.data(), first.size());
+    f.finish();
+    if (drain_between)
+      while (auto p = f.next()) r.ids.push_back(p->id);
+    f.feed(then.data(), then.size());
+    while (auto p = f.next()) r.ids.push_back(p->id);
+    f.finish();
+    while (auto p = f.next()) r.ids.push_back(p->id);
+    r.stats = f.stats();
+    return r;
+  };
+  SUBCASE("a packet cut by the end of a stream is not completed by the next one") {
+    const Bytes head(pkt.begin(), pkt.begin() + 6), rest(pkt.begin() + 6, pkt.end());
+    for (bool drain_between : {false, true}) {
+      CAPTURE(drain_between);
+      const Result r = run(head, rest, drain_between);
+      CHECK(r.ids.empty());  // was the packet, spliced across the two streams
+      CHECK(r.stats.truncated == 1);
+      CHECK(r.stats.packets == 0);
+      CHECK(r.stats.junk_bytes == pkt.size());
+    }
+  }
+  SUBCASE("complete packets of the finished stream still come out, in order") {
+    Bytes first = pkt;
+    first.insert(first.end(), second.begin(), second.begin() + 5);  // cut short
+    for (bool drain_between : {false, true}) {
+      CAPTURE(drain_between);
+      const Result r = run(first, second, drain_between);
+      CHECK(r.ids == std::vector<std::uint8_t>{wts_id::kLoop, wts_id::kTare});
+      CHECK(r.stats.packets == 2);
+      CHECK(r.stats.oversize == 0);  // the cut header is not read across the streams
+      CHECK(r.stats.junk_bytes == 5);
+      CHECK(r.stats.bytes_in == r.stats.packet_bytes + r.stats.junk_bytes);
+    }
+  }
+}
+
+// --- Parser: grids larger than the payload bound ----------------------------
+
+TEST_CASE("Parser: a grid whose frames exceed the payload bound raises the bound, so its frames decode") {
+  const Grid big{20, 30};  // 600 taxels: 1205-byte frames, default bound 1024
+  const MatrixInfo info{30, 20, 340, 340, 4095};
+  REQUIRE(WtsStreamParser::frame_payload_size(big) == 1205);
+  Rng rng(11);
+  Bytes stream = matrix_info_reply(info);
+  std::vector<TactileFrame> frames;
+  for (std::uint32_t i = 0; i < 5; ++i) {
+    frames.push_back(test::random_frame(rng, big, i));
+    append(stream, encode_frame(frames.back()));
+  }
+  SUBCASE("from the matrix info, in any chunking") {
+    for (std::size_t max_chunk : {std::size_t{1}, std::size_t{13}, stream.size()}) {
+      CAPTURE(max_chunk);
+      WtsStreamParser p;  // defaults, as `iclap record` uses
+      CHECK(p.max_payload() == PacketFramer::kDefaultMaxPayload);
+      const auto got = feed_chunked(p, stream, rng, max_chunk);
+      REQUIRE(got.size() == 6);
+      for (std::size_t k = 0; k < frames.size(); ++k) CHECK(same(got[k + 1], frames[k]));
+      REQUIRE(p.grid());
+      CHECK(*p.grid() == big);
+      CHECK(p.max_payload() == 1205);
+      const auto st = p.stats();
+      CHECK(st.oversize == 0);
+      CHECK(st.frames == 5);
+      CHECK(st.junk_bytes == 0);
+    }
+  }
+  SUBCASE("from an override, even below a small explicit bound") {
+    WtsStreamParser::Settings s;
+    s.grid = big;
+    s.max_payload = 16;
+    WtsStreamParser p(s);
+    CHECK(p.max_payload() == 1205);
+    p.feed(encode_frame(frames[0]));
+    auto m = p.next();
+    REQUIRE(m);
+    CHECK(same(*m, frames[0]));
+    WtsStreamParser q;
+    q.set_grid(big);
+    CHECK(q.max_payload() == 1205);
+    q.set_grid(kWts);  // never lowered
+    CHECK(q.max_payload() == 1205);
+  }
+  SUBCASE("a feed after finish() decodes the finished stream with the grid it learnt") {
+    for (bool drain_between : {false, true}) {
+      CAPTURE(drain_between);
+      WtsStreamParser p;
+      p.feed(stream);
+      p.finish();
+      std::vector<WtsMessage> got;
+      if (drain_between) got = drain(p);
+      p.feed(encode_frame(frames[0]));
+      for (auto& m : drain(p)) got.push_back(std::move(m));
+      CHECK(got.size() == 7);
+      CHECK(p.stats().frames == 6);
+    }
+  }
+  SUBCASE("a grid no WTS frame can carry is refused") {
+    CHECK(WtsStreamParser::kMaxGridTaxels == 32765);
+    WtsStreamParser p;
+    CHECK_THROWS_AS(p.set_grid(Grid{1, 32766}), iclap::InvalidArgument);
+    CHECK_NOTHROW(p.set_grid(Grid{1, 32765}));
+    CHECK(p.max_payload() == kWtsMaxPayload);
+    WtsStreamParser q;
+    q.feed(matrix_info_reply(MatrixInfo{200, 200, 340, 340, 4095}));  // 40000 taxels
+    REQUIRE(q.next());
+    CHECK(q.matrix_info());
+    CHECK_FALSE(q.grid());
+    CHECK(q.max_payload() == PacketFramer::kDefaultMaxPayload);
+  }
+}

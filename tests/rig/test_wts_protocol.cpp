@@ -115,6 +115,9 @@ TEST_CASE("Frame rate to delay") {
   } catch (const iclap::InvalidArgument& e) {
     CHECK(e.argument() == "rate");
   }
+  // The rate as given (std::to_string printed 1e-9 as 0.000000).
+  CHECK_THROWS_WITH_AS(delay_ms_for_rate(1e-9),
+                       "rate: 1e-09 frames/s needs a delay outside the sensor's 1..65535 ms", iclap::InvalidArgument);
 }
 
 TEST_CASE("Grid parsing") {

@@ -38,8 +38,12 @@ class DatasetFrameSource final : public FrameSource {
   bool has_time() const override { return has_time_; }
   bool has_orientation() const override { return has_orientation_; }
   std::string description() const override { return "replay of " + name_; }
-  /// The dataset frame that the last kFrame came from (labels for evaluation).
-  const Frame& last_frame() const { return dataset_.frames.at(next_ - 1); }
+  /// The dataset frame that the last kFrame came from (labels for
+  /// evaluation). Throws InvalidArgument ("last_frame") before the first.
+  const Frame& last_frame() const {
+    if (next_ == 0) throw InvalidArgument("last_frame", "no frame has been returned yet");
+    return dataset_.frames[next_ - 1];
+  }
 
  private:
   Dataset dataset_;

@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <optional>
+#include <string>
 #include <variant>
 
 #include "iclap/core/error.hpp"
@@ -31,6 +33,11 @@ struct ParserStats : FramerStats {
 /// Turns the sensor's byte stream into frames and replies.
 ///
 /// Framing, resynchronisation and the payload bound are PacketFramer's.
+/// Whenever a grid is set (override or matrix info), the bound is raised, if
+/// needed, to that grid's frame payload (frame_payload_size(): 5 + 2 bytes a
+/// taxel), so the frames of any grid the parser accepts fit; it is never
+/// lowered. A grid whose frame cannot fit a WTS packet at all (more than
+/// kMaxGridTaxels taxels) is refused.
 /// Valid packets are decoded: id 0x00 is a frame (timestamp_ms:u32,
 /// flags:u8, u16 taxels row-major), any other id a reply (status:u16,
 /// payload). The grid comes from the first successful "get matrix info"
@@ -55,8 +62,18 @@ struct ParserStats : FramerStats {
 /// Not thread-safe.
 class WtsStreamParser {
  public:
+  /// Most taxels a frame can carry: 5 + 2 x 32765 = 65535 payload bytes.
+  static constexpr std::size_t kMaxGridTaxels = (kWtsMaxPayload - 5) / 2;
+
+  /// Payload bytes of an uncompressed frame of `g`: timestamp, flags, taxels.
+  /// Only for a grid of 1 to kMaxGridTaxels taxels.
+  static std::size_t frame_payload_size(const Grid& g) noexcept {
+    return 5 + 2 * static_cast<std::size_t>(g.rows) * static_cast<std::size_t>(g.cols);
+  }
+
   struct Settings {
-    /// Largest payload accepted; see PacketFramer.
+    /// Largest payload accepted; see PacketFramer. Raised to the grid's
+    /// frame payload when a grid is set (see the class comment).
     std::size_t max_payload = PacketFramer::kDefaultMaxPayload;
     /// Grid override; when empty the matrix info reply decides.
     std::optional<Grid> grid;
@@ -68,38 +85,63 @@ class WtsStreamParser {
   explicit WtsStreamParser(Settings settings)
       : framer_(settings.max_payload), grid_(settings.grid), grid_overridden_(settings.grid.has_value()),
         max_texel_(settings.max_texel) {
-    if (grid_) check_grid(*grid_);
+    if (grid_) {
+      check_grid(*grid_);
+      fit_bound(*grid_);
+    }
   }
 
-  /// Appends received bytes (any chunking).
-  void feed(const std::uint8_t* data, std::size_t size) { framer_.feed(data, size); }
+  /// Appends received bytes (any chunking). A feed after finish() starts a
+  /// new stream; the finished one is decoded first (its messages still come
+  /// out of next()), so the result does not depend on whether next() ran
+  /// in between.
+  void feed(const std::uint8_t* data, std::size_t size) {
+    if (finished_) {
+      while (auto m = decode_next()) {
+        Decoded& d = ready_.emplace_back();
+        if (auto* f = std::get_if<TactileFrame>(&*m)) {
+          d.is_frame = true;
+          d.frame = std::move(*f);
+        } else {
+          d.reply = std::move(std::get<Reply>(*m));
+        }
+      }
+      finished_ = false;
+    }
+    framer_.feed(data, size);
+  }
   void feed(const Bytes& bytes) { feed(bytes.data(), bytes.size()); }
 
   /// Marks the end of the stream (see PacketFramer::finish()).
-  void finish() noexcept { framer_.finish(); }
+  void finish() noexcept {
+    finished_ = true;
+    framer_.finish();
+  }
 
   /// The next frame or reply, or nothing until more bytes arrive.
   std::optional<WtsMessage> next() {
-    while (auto packet = framer_.next()) {
-      std::optional<WtsMessage> message;
-      if (packet->id == wts_id::kFrameData) {
-        auto& frame = std::get<TactileFrame>(message.emplace(std::in_place_type<TactileFrame>));
-        if (decode_frame(packet->payload, frame)) return message;
-      } else {
-        auto& reply = std::get<Reply>(message.emplace(std::in_place_type<Reply>));
-        if (decode_reply(*packet, reply)) return message;
-      }
+    if (!ready_.empty()) {
+      std::optional<WtsMessage> m;
+      Decoded& d = ready_.front();
+      if (d.is_frame)
+        m.emplace(std::in_place_type<TactileFrame>, std::move(d.frame));
+      else
+        m.emplace(std::in_place_type<Reply>, std::move(d.reply));
+      ready_.pop_front();
+      return m;
     }
-    return std::nullopt;
+    return decode_next();
   }
 
   /// The grid frames are decoded with, if known.
   const std::optional<Grid>& grid() const noexcept { return grid_; }
   /// Whether the grid was set by the caller (then replies do not change it).
   bool grid_overridden() const noexcept { return grid_overridden_; }
-  /// Overrides the grid from now on. Throws InvalidArgument for an empty grid.
+  /// Overrides the grid from now on. Throws InvalidArgument for an empty
+  /// grid or one of more than kMaxGridTaxels taxels.
   void set_grid(const Grid& grid) {
     check_grid(grid);
+    fit_bound(grid);
     grid_ = grid;
     grid_overridden_ = true;
   }
@@ -112,11 +154,36 @@ class WtsStreamParser {
     return s;
   }
   std::size_t buffered() const noexcept { return framer_.buffered(); }
+  /// The payload bound in force (Settings::max_payload, raised for the grid).
+  std::size_t max_payload() const noexcept { return framer_.max_payload(); }
 
  private:
+  static bool usable_grid(const Grid& g) noexcept {
+    return g.rows >= 1 && g.cols >= 1 && static_cast<std::size_t>(g.size()) <= kMaxGridTaxels;
+  }
   static void check_grid(const Grid& g) {
-    if (g.rows < 1 || g.cols < 1 || g.size() > 32767)
-      throw InvalidArgument("grid", to_string(g) + " is not a grid of 1 to 32767 taxels");
+    if (!usable_grid(g))
+      throw InvalidArgument("grid", to_string(g) + " is not a grid of 1 to " + std::to_string(kMaxGridTaxels) +
+                                        " taxels (a frame of more does not fit a WTS packet)");
+  }
+  // Raises the framer's payload bound so that frames of `g` fit.
+  void fit_bound(const Grid& g) {
+    const std::size_t needed = frame_payload_size(g);
+    if (needed > framer_.max_payload()) framer_.set_max_payload(needed);
+  }
+
+  std::optional<WtsMessage> decode_next() {
+    while (auto packet = framer_.next()) {
+      std::optional<WtsMessage> message;
+      if (packet->id == wts_id::kFrameData) {
+        auto& frame = std::get<TactileFrame>(message.emplace(std::in_place_type<TactileFrame>));
+        if (decode_frame(packet->payload, frame)) return message;
+      } else {
+        auto& reply = std::get<Reply>(message.emplace(std::in_place_type<Reply>));
+        if (decode_reply(*packet, reply)) return message;
+      }
+    }
+    return std::nullopt;
   }
 
   // Fills `frame` and returns true, or counts the drop and returns false.
@@ -166,7 +233,10 @@ class WtsStreamParser {
       const MatrixInfo info = decode_matrix_info(reply);
       matrix_info_ = info;
       const Grid g = info.grid();
-      if (!grid_overridden_ && g.rows >= 1 && g.cols >= 1 && g.size() <= 32767) grid_ = g;
+      if (!grid_overridden_ && usable_grid(g)) {
+        fit_bound(g);
+        grid_ = g;
+      }
     }
     ++counts_.replies;
     return true;
@@ -178,6 +248,15 @@ class WtsStreamParser {
   std::optional<MatrixInfo> matrix_info_;
   std::uint16_t max_texel_;
   ParserStats counts_;
+  // A message decoded by a feed() after finish(), kept for next() (not a
+  // WtsMessage: moving that variant trips GCC's maybe-uninitialized).
+  struct Decoded {
+    bool is_frame = false;
+    TactileFrame frame;
+    Reply reply;
+  };
+  bool finished_ = false;
+  std::deque<Decoded> ready_;
 };
 
 }  // namespace iclap::rig

@@ -108,10 +108,10 @@ inline Bytes encode_packet(std::uint8_t id, const Bytes& payload = {}) {
 /// finite and the delay lands in [1, 65535] ms (rate in about [0.0153, 1000]).
 inline std::uint16_t delay_ms_for_rate(double rate) {
   if (!std::isfinite(rate) || rate <= 0.0)
-    throw InvalidArgument("rate", std::to_string(rate) + " frames/s is not a positive finite rate");
+    throw InvalidArgument("rate", format_value(rate) + " frames/s is not a positive finite rate");
   const double delay = std::round(1000.0 / rate);
   if (rate > 1000.0 || delay > 65535.0)
-    throw InvalidArgument("rate", std::to_string(rate) +
+    throw InvalidArgument("rate", format_value(rate) +
                                       " frames/s needs a delay outside the sensor's 1..65535 ms");
   return static_cast<std::uint16_t>(delay);
 }

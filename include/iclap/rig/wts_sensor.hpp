@@ -60,7 +60,7 @@ class WtsSensor {
   struct Settings {
     std::chrono::milliseconds reply_timeout{1000};  ///< per attempt
     int attempts = 3;                               ///< sends of a command before WtsTimeout
-    std::size_t max_queued_frames = 10000;          ///< frames kept while nobody reads
+    std::size_t max_queued_frames = 10000;          ///< frames kept while nobody reads (at least 1)
     WtsStreamParser::Settings parser;               ///< payload bound, grid override, max taxel
   };
 
@@ -69,6 +69,8 @@ class WtsSensor {
       : stream_(stream), settings_(settings), parser_(settings.parser) {
     if (settings_.attempts < 1) throw InvalidArgument("settings.attempts", "must be at least 1");
     if (settings_.reply_timeout.count() < 1) throw InvalidArgument("settings.reply_timeout", "must be positive");
+    if (settings_.max_queued_frames < 1)
+      throw InvalidArgument("settings.max_queued_frames", "must be at least 1, got 0");
   }
   WtsSensor(const WtsSensor&) = delete;
   WtsSensor& operator=(const WtsSensor&) = delete;
@@ -123,7 +125,17 @@ class WtsSensor {
 
   /// Asks for the matrix info; the parser takes its grid from it unless a
   /// grid override was given.
-  MatrixInfo query_matrix_info() { return decode_matrix_info(request_ok(encode_get_matrix_info())); }
+  /// Throws InvalidArgument ("matrix info") when there is no override and
+  /// the reported grid is unusable (a side of 0, or more taxels than a
+  /// frame can carry), so callers never face a sensor without a grid.
+  MatrixInfo query_matrix_info() {
+    const MatrixInfo info = decode_matrix_info(request_ok(encode_get_matrix_info()));
+    if (!parser_.grid_overridden() && (!parser_.grid() || *parser_.grid() != info.grid()))
+      throw InvalidArgument("matrix info", "the sensor reports res_x=" + std::to_string(info.res_x) +
+                                               ", res_y=" + std::to_string(info.res_y) + ", not a grid of 1 to " +
+                                               std::to_string(WtsStreamParser::kMaxGridTaxels) + " taxels");
+    return info;
+  }
 
   /// Starts periodic frames at `rate` frames/s (delay_ms = 1000 / rate).
   /// Frames queued before the start command are discarded: they belong to
@@ -152,11 +164,13 @@ class WtsSensor {
   }
 
   /// The next frame, waiting at most `timeout`; nothing on timeout (or when
-  /// a signal interrupted the wait). Throws DeviceLost once every frame
-  /// received before a loss has been returned.
+  /// a signal interrupted the wait). The stream is read at least once, so a
+  /// zero timeout polls: it returns a frame whose bytes have arrived.
+  /// Throws DeviceLost once every frame received before a loss has been
+  /// returned.
   std::optional<TactileFrame> next_frame(std::chrono::milliseconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
-    for (;;) {
+    for (bool read_once = false;; read_once = true) {
       while (queue_.empty()) {
         auto m = parser_.next();
         if (!m) break;
@@ -169,10 +183,12 @@ class WtsSensor {
       }
       throw_if_lost();
       const auto left = deadline - std::chrono::steady_clock::now();
-      if (left <= std::chrono::steady_clock::duration::zero()) return std::nullopt;
-      if (!pump(std::chrono::duration_cast<std::chrono::milliseconds>(left) + std::chrono::milliseconds(1)) &&
-          !lost_)
-        return std::nullopt;  // timeout or signal
+      const bool expired = left <= std::chrono::steady_clock::duration::zero();
+      if (expired && read_once) return std::nullopt;
+      const auto wait = expired ? std::chrono::milliseconds(0)
+                                : std::chrono::duration_cast<std::chrono::milliseconds>(left) +
+                                      std::chrono::milliseconds(1);
+      if (!pump(wait) && !lost_) return std::nullopt;  // timeout or signal
     }
   }
 
