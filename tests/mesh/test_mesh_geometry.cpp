@@ -219,3 +219,100 @@ TEST_CASE("placement: shared real meshes become usable (flat, centred, in metres
   CHECK(w.sizes().x() == doctest::Approx(0.203).epsilon(0.03));
   CHECK(w.sizes().z() < 0.02);
 }
+
+TEST_CASE("mesh: triangles that all have zero area are refused by validate_mesh, placement and the BVH") {
+  // Four points spanning a volume, but every triangle repeats a vertex.
+  iclap::TriangleMesh m;
+  m.vertices.resize(3, 4);
+  m.vertices << 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1;
+  m.triangles.resize(3, 4);
+  m.triangles << 0, 1, 2, 3, 0, 1, 2, 3, 1, 2, 3, 0;
+  auto refused = [](auto&& f) {
+    try {
+      f();
+    } catch (const iclap::InvalidArgument& e) {
+      CHECK(e.argument() == "mesh");
+      return e.reason();
+    }
+    return std::string("accepted");
+  };
+  const std::string reason = "every one of its 4 triangles has zero area (no surface)";
+  CHECK(refused([&] { iclap::validate_mesh(m); }) == reason);
+  CHECK(refused([&] { iclap::place_on_table(m); }) == reason);  // used to return NaN, "stable"
+  CHECK(refused([&] { (void)iclap::MeshBvh{m}; }) == reason);
+  CHECK(refused([&] { iclap::center_on_table(m); }) == reason);
+  // Collinear corners are zero area too; one real triangle is enough.
+  m.triangles.col(0) << 0, 1, 1;
+  m.vertices.col(3) << 2, 0, 0;  // on the line through vertices 0 and 1
+  m.triangles.col(1) << 0, 1, 3;
+  CHECK(refused([&] { iclap::validate_mesh(m); }) == reason);
+  m.triangles.col(2) << 0, 1, 2;
+  CHECK(refused([&] { iclap::validate_mesh(m); }) == "accepted");
+  CHECK(refused([&] { (void)iclap::MeshBvh{m}; }) == "accepted");
+}
+
+TEST_CASE("placement: face_merge_angle must be in [0, pi/2]") {
+  const auto box = iclap::make_box(Eigen::Vector3d(0.1, 0.05, 0.02));
+  for (const double bad : {std::nan(""), -0.1, 4.0, std::numeric_limits<double>::infinity()}) {
+    CAPTURE(bad);
+    iclap::TablePlacementSettings s;
+    s.face_merge_angle = bad;
+    CHECK_THROWS_WITH_AS(iclap::place_on_table(box, s),
+                         doctest::Contains("settings.face_merge_angle: must be in [0, pi/2] radians, got"),
+                         iclap::InvalidArgument);
+  }
+  iclap::TablePlacementSettings s;
+  for (const double ok : {0.0, 0.1, kPi / 2}) {
+    s.face_merge_angle = ok;
+    const auto p = iclap::place_on_table(box, s);
+    CHECK(p.stable);
+    CHECK(p.mesh.vertices.allFinite());
+  }
+}
+
+TEST_CASE("bvh: closest_point of a non-finite query throws NonFiniteValue naming it") {
+  iclap::TriangleMesh m;
+  m.vertices.resize(3, 3);
+  m.vertices << 0, 1, 0, 0, 0, 1, 0, 0, 0;
+  m.triangles.resize(3, 1);
+  m.triangles << 0, 1, 2;
+  const iclap::MeshBvh bvh(m);
+  try {
+    bvh.closest_point(Eigen::Vector3d(0, std::nan(""), 0));
+    FAIL("accepted");
+  } catch (const iclap::NonFiniteValue& e) {
+    CHECK(e.argument() == "p");
+    CHECK(e.row() == 1);
+  }
+  CHECK_THROWS_AS(bvh.closest_point(Eigen::Vector3d(std::numeric_limits<double>::infinity(), 0, 0)),
+                  iclap::NonFiniteValue);
+  CHECK(bvh.closest_point(Eigen::Vector3d(0.2, 0.2, 1)).triangle == 0);
+}
+
+TEST_CASE("convex hull and placement at extreme scales: exact hull, clear refusal") {
+  const auto box = iclap::make_box(Eigen::Vector3d(0.1, 0.05, 0.02));
+  // The hull is computed at a power-of-two scale: the same faces at any size
+  // (a box scaled by 1e103 used to be "all points lie on a plane").
+  const auto unit_hull = iclap::convex_hull(box.vertices);
+  for (const double k : {1e-150, 1e-103, 1e103, 1e150, 1e300}) {
+    CAPTURE(k);
+    const Eigen::Matrix3Xd pts = box.vertices * k;
+    const auto hull = iclap::convex_hull(pts);
+    CHECK(hull.triangle_count() == 12);
+    CHECK(hull.vertex_count() == 8);
+    CHECK(hull.triangles == unit_hull.triangles);
+  }
+  CHECK_THROWS_WITH_AS(iclap::convex_hull(box.vertices * 1e308 * 18), doctest::Contains("too large"),
+                       iclap::InvalidArgument);
+  // Placement squares and cubes coordinates: beyond 1e75 it refuses, not NaN.
+  iclap::TriangleMesh big = box;
+  big.vertices *= 1e103;
+  CHECK_THROWS_WITH_AS(iclap::place_on_table(big),
+                       "mesh: has a coordinate of magnitude 5e+101, more than 1e+75 (scale it down)",
+                       iclap::InvalidArgument);
+  big.vertices = box.vertices * 1e70;
+  const auto p = iclap::place_on_table(big);
+  CHECK(p.stable);
+  CHECK(p.mesh.vertices.allFinite());
+  CHECK(iclap::mesh_bounds(p.mesh).sizes().isApprox(Eigen::Vector3d(0.1, 0.05, 0.02) * 1e70, 1e-12));
+}

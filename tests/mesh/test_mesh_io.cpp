@@ -4,6 +4,8 @@
 
 #include <doctest/doctest.h>
 
+#include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -171,4 +173,86 @@ TEST_CASE("mesh io: the shared real meshes load with their documented sizes") {
   CHECK(scissors.triangle_count() == 16384);
   CHECK(scissors.vertex_count() == 8188);
   CHECK(iclap::signed_volume(scissors) * 1e6 == doctest::Approx(46.8).epsilon(0.01));
+}
+
+namespace {
+// "LINE: reason" of the ParseError `read_ply` throws for `text`, the type
+// name of any other exception, or "accepted: N vertices".
+std::string ply_outcome(const std::string& text) {
+  std::istringstream in(text);
+  try {
+    const auto c = iclap::read_ply(in, "t.ply");
+    return "accepted: " + std::to_string(c.vertices.cols()) + " vertices";
+  } catch (const iclap::ParseError& e) {
+    CHECK(e.file() == "t.ply");
+    return std::to_string(e.line()) + ": " + e.reason();
+  } catch (const std::exception& e) {
+    return std::string("other exception: ") + e.what();
+  }
+}
+const std::string kTetBody = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+const std::string kTetHead =
+    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+    "element face 4\nproperty list uchar int vertex_indices\n";
+}  // namespace
+
+TEST_CASE("mesh io: PLY element counts the file cannot hold are refused before reading or allocating") {
+  // ascii, an element without properties and a huge count: used to loop forever.
+  CHECK(ply_outcome(kTetHead + "element pad 9000000000000000000\nend_header\n" + kTetBody)
+            .rfind("9: element 'pad' declares 9000000000000000000 items, more than the ", 0) == 0);
+  // ... a small count of empty items is still fine, even with no lines for them at the end.
+  CHECK(ply_outcome(kTetHead + "element pad 1\nend_header\n" + kTetBody) == "accepted: 4 vertices");
+  CHECK(ply_outcome(kTetHead + "element pad 2\nend_header\n" + kTetBody + "\n\n") == "accepted: 4 vertices");
+  // binary: an element without properties takes no bytes, whatever its count.
+  const std::string bin = "ply\nformat binary_little_endian 1.0\n";
+  const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
+  CHECK(ply_outcome(bin + "element pad 9000000000000000000\nelement vertex 1\n" + xyz + "end_header\n" +
+                    std::string(12, '\0')) == "accepted: 1 vertices");
+  // ... one with properties cannot have more items than bytes.
+  CHECK(ply_outcome(bin + "element pad 9000000000000000000\nproperty uchar a\nelement vertex 1\n" + xyz +
+                    "end_header\n" + std::string(12, '\0'))
+            .rfind("3: element 'pad' declares 9000000000000000000 items, more than the 12 bytes", 0) == 0);
+  CHECK(ply_outcome(bin + "element pad 5\nproperty list uint int idx\nelement vertex 1\n" + xyz + "end_header\n" +
+                    std::string(12, '\0'))
+            .rfind("3: element 'pad' declares 5 items", 0) == 0);
+  // The vertex count is checked before the vertices are allocated: no
+  // std::bad_alloc for 2e9 vertices, no 700 MB for 6e7 in a tiny file.
+  const std::string label = "property float label\nend_header\n";
+  CHECK(ply_outcome(bin + "element vertex 2000000000\n" + xyz + label)
+            .rfind("3: element 'vertex' declares 2000000000 items, more than the 0 bytes", 0) == 0);
+  CHECK(ply_outcome(bin + "element vertex 60000000\n" + xyz + label + std::string(64, '\0'))
+            .rfind("3: element 'vertex' declares 60000000 items, more than the 64 bytes", 0) == 0);
+  // The counts add up: the vertices fit alone but not with the faces after them.
+  CHECK(ply_outcome(bin + "element vertex 1\n" + xyz + "element face 1\nproperty list uchar int vertex_indices\n" +
+                    "end_header\n" + std::string(12, '\0'))
+            .rfind("7: element 'face' declares 1 items, more than the 12 bytes", 0) == 0);
+  // ascii: each item of an element with properties needs a value and a line break.
+  CHECK(ply_outcome("ply\nformat ascii 1.0\nelement vertex 3\n" + xyz + "end_header\n0 0\n")
+            .rfind("3: element 'vertex' declares 3 items, more than the 4 bytes", 0) == 0);
+}
+
+TEST_CASE("mesh io: PLY float vertex indices out of range or fractional are shown as read") {
+  const std::string float_head =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar float vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  const std::string where = "14: element 'face' item 0: vertex index ";
+  CHECK(ply_outcome(float_head + "3 0 1 1e30\n") == where + "1e+30 is out of range (4 vertices)");
+  CHECK(ply_outcome(float_head + "3 0 1 -1e30\n") == where + "-1e+30 is out of range (4 vertices)");
+  CHECK(ply_outcome(float_head + "3 0 1 1.5\n") == where + "1.5 is not an integer");
+  CHECK(ply_outcome(float_head + "3 0 1 -0.25\n") == where + "-0.25 is not an integer");
+  CHECK(ply_outcome(float_head + "3 0 1 4\n") == where + "4 is out of range (4 vertices)");
+  CHECK(ply_outcome(float_head + "3 0 1 -3\n") == where + "-3 is out of range (4 vertices)");
+  CHECK(ply_outcome(float_head + "3 0 1 3\n") == "accepted: 4 vertices");
+  // Binary doubles too: 2^63 used to print as -9223372036854775808.
+  std::string bin =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar double vertex_indices\nend_header\n";
+  bin += std::string(36, '\0');
+  bin += '\3';
+  for (const double v : {0.0, 1.0, 9223372036854775808.0}) {
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &v, 8);
+    for (int k = 0; k < 8; ++k) bin += static_cast<char>((bits >> (8 * k)) & 0xffu);  // little endian
+  }
+  CHECK(ply_outcome(bin).find("vertex index 9.22337e+18 is out of range (3 vertices)") != std::string::npos);
 }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <string>
@@ -344,4 +345,96 @@ TEST_CASE("mesh objects: the shared manifest lists the 25 meshes with their scal
   CHECK(scales.size() == 25);
   CHECK(scales.at("wt_pliers.ply") == 0.001);
   CHECK(scales.at("ycb_037_scissors.obj") == 1.0);
+}
+
+TEST_CASE("settings: non-finite and oversized values are refused, naming the setting and the value") {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  struct Bad {
+    const char* argument;
+    const char* value;
+    void (*apply)(iclap::SimulationSettings&);
+  };
+  const Bad cases[] = {
+      {"arm.position_noise", "inf", [](iclap::SimulationSettings& s) { s.arm.position_noise = inf; }},
+      {"arm.orientation_noise", "inf", [](iclap::SimulationSettings& s) { s.arm.orientation_noise = inf; }},
+      {"arm.position_resolution", "inf", [](iclap::SimulationSettings& s) { s.arm.position_resolution = inf; }},
+      {"arm.position_noise", "nan", [](iclap::SimulationSettings& s) { s.arm.position_noise = std::nan(""); }},
+      {"sensor.noise_sigma", "inf", [](iclap::SimulationSettings& s) { s.sensor.noise_sigma = inf; }},
+      {"sensor.dead_band", "inf", [](iclap::SimulationSettings& s) { s.sensor.dead_band = inf; }},
+      {"sensor.spread_sigma", "inf", [](iclap::SimulationSettings& s) { s.sensor.spread_sigma = inf; }},
+      {"sensor.spread_sigma", "1e+300", [](iclap::SimulationSettings& s) { s.sensor.spread_sigma = 1e300; }},
+      {"sensor.pad_length", "inf", [](iclap::SimulationSettings& s) { s.sensor.pad_length = inf; }},
+      {"sensor.pad_width", "1e+06", [](iclap::SimulationSettings& s) { s.sensor.pad_width = 1e6; }},
+      {"sensor.pad_length", "1e+300", [](iclap::SimulationSettings& s) {
+         s.sensor.rows = 1000000;
+         s.sensor.pad_length = 1e300;
+       }},
+      {"exploration.max_frames_mean", "inf", [](iclap::SimulationSettings& s) { s.exploration.max_frames_mean = inf; }},
+      {"exploration.max_frames_mean", "1e+07",
+       [](iclap::SimulationSettings& s) { s.exploration.max_frames_mean = 1e7; }},
+      {"exploration.sweep_length_max", "inf",
+       [](iclap::SimulationSettings& s) { s.exploration.sweep_length_max = inf; }},
+      {"exploration.force_max", "inf", [](iclap::SimulationSettings& s) { s.exploration.force_max = inf; }},
+  };
+  const iclap::SimObject object = iclap::builtin_object(iclap::builtin_object_names().front());
+  for (const Bad& b : cases) {
+    CAPTURE(b.argument);
+    CAPTURE(b.value);
+    iclap::SimulationSettings s;
+    b.apply(s);
+    try {
+      simulate_exploration(object, s, 42, 0);
+      FAIL("accepted");
+    } catch (const iclap::InvalidArgument& e) {
+      CHECK(e.argument() == b.argument);
+      CHECK_MESSAGE(e.reason().find(b.value) != std::string::npos, e.what());
+    }
+    if (std::string(b.argument).rfind("sensor.", 0) == 0)
+      CHECK_THROWS_AS(iclap::TactileSensorModel(s.sensor), iclap::InvalidArgument);
+  }
+  // The limits themselves are fine (only validated here: not simulated).
+  iclap::SimulationSettings s;
+  s.exploration.max_frames_mean = 1e6;
+  s.sensor.spread_sigma = 0.999e4 * s.sensor.pitch / s.sensor.samples_per_taxel;
+  CHECK_NOTHROW(s.validate());
+}
+
+TEST_CASE("mesh objects: manifest nesting is capped, not a stack overflow") {
+  auto parse = [](const std::string& text) { return iclap::detail::ManifestParser(text, "meshes.json").parse(); };
+  try {
+    parse("[{\"x\":" + std::string(2000000, '['));
+    FAIL("accepted");
+  } catch (const iclap::ParseError& e) {
+    CHECK(e.file() == "meshes.json");
+    CHECK(e.line() == 1);
+    CHECK(e.reason() == "nesting deeper than 256");
+  }
+  // 256 levels in all (the top-level array and object, 254 below) are fine.
+  const auto nested = [](int n) {
+    return "[{\"file\": \"a.obj\", \"x\": " + std::string(static_cast<std::size_t>(n), '[') +
+           std::string(static_cast<std::size_t>(n), ']') + ", \"scale_to_metres\": 0.001}]";
+  };
+  const auto scales = parse(nested(254));
+  CHECK(scales.size() == 1);
+  CHECK(scales.at("a.obj") == 0.001);
+  CHECK_THROWS_WITH_AS(parse(nested(255)), "meshes.json:1: nesting deeper than 256", iclap::ParseError);
+  CHECK_THROWS_WITH_AS(parse("[{\"x\": {\"y\": [1, {\"z\": [[[" + std::string(300, '[')),
+                       "meshes.json:1: nesting deeper than 256", iclap::ParseError);
+}
+
+TEST_CASE("mesh objects: a mesh of zero-area triangles is refused by name") {
+  iclap::TriangleMesh m;
+  m.vertices.resize(3, 4);
+  m.vertices << 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1;
+  m.triangles.resize(3, 4);
+  m.triangles << 0, 1, 2, 3, 0, 1, 2, 3, 1, 2, 3, 0;
+  for (const bool place : {true, false}) {
+    try {
+      iclap::make_sim_object("degen", m, place);
+      FAIL("accepted");
+    } catch (const iclap::InvalidArgument& e) {
+      CHECK(e.argument() == "mesh of 'degen'");
+      CHECK(e.reason() == "every one of its 4 triangles has zero area (no surface)");
+    }
+  }
 }

@@ -114,7 +114,10 @@ class MeshBvh {
   }
 
   /// The surface point closest to `p` (ties: smaller triangle index).
+  /// Throws NonFiniteValue naming "p" for a NaN or infinite coordinate.
   ClosestPoint closest_point(const Eigen::Vector3d& p) const {
+    for (Index k = 0; k < 3; ++k)
+      if (!std::isfinite(p[k])) throw NonFiniteValue("p", k, 0, p[k]);
     const Data& d = *data_;
     ClosestPoint best;
     best.squared_distance = std::numeric_limits<double>::infinity();

@@ -23,19 +23,30 @@ namespace iclap {
 /// Quickhull (Barber, Dobkin, Huhdanpaa 1996) with a distance tolerance of
 /// about 1e-12 of the point set's extent: points closer than that to a hull
 /// face count as on it, so coplanar input (CAD faces) gives no slivers
-/// outside the hull. Expected O(n log n). Throws InvalidArgument if the
-/// points are not finite or span no volume (fewer than 4 points, or all on
-/// one plane).
+/// outside the hull. Expected O(n log n). Works at any scale whose bounds'
+/// centre and extent are finite (up to about 1e307). Throws
+/// InvalidArgument if the points are not finite, are too large for that, or
+/// span no volume (fewer than 4 points, or all on one plane).
 inline TriangleMesh convex_hull(const Eigen::Matrix3Xd& points) {
   const Index n = points.cols();
   if (n < 4) throw InvalidArgument("points", "a 3-D convex hull needs at least 4 points, got " + std::to_string(n));
   if (!points.allFinite()) throw InvalidArgument("points", "has a non-finite coordinate");
-  // Work relative to the centre of the bounds, for precision with far origins.
+  // Work relative to the centre of the bounds, for precision with far
+  // origins, and scaled by a power of two that brings the extent into
+  // [0.5, 1): exact, so every decision is the same as unscaled, but squared
+  // lengths and cross products neither overflow (coordinates up to about
+  // 1e300) nor underflow.
   const Eigen::Vector3d lo = points.rowwise().minCoeff(), hi = points.rowwise().maxCoeff();
   const Eigen::Vector3d centre = 0.5 * (lo + hi);
-  const Eigen::Matrix3Xd p = points.colwise() - centre;
-  const double extent = (hi - lo).maxCoeff();
+  double extent = (hi - lo).maxCoeff();
+  if (!std::isfinite(extent) || !centre.allFinite())
+    throw InvalidArgument("points", "coordinates too large to compute with (the extent overflows)");
   if (!(extent > 0)) throw InvalidArgument("points", "all points coincide");
+  int exponent = 0;
+  std::frexp(extent, &exponent);
+  const Eigen::Matrix3Xd p =
+      (points.colwise() - centre).unaryExpr([exponent](double v) { return std::ldexp(v, -exponent); });
+  extent = std::ldexp(extent, -exponent);
   const double eps = 1e-12 * extent * 64;
 
   struct Face {

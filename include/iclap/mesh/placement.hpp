@@ -24,6 +24,7 @@ struct TablePlacementSettings {
   /// Hull triangles whose normals differ by less than this (radians) from
   /// the largest one of a group are merged into one resting face. Scanned
   /// meshes have slightly wavy flat faces; 2 degrees keeps them one face.
+  /// Must be in [0, pi/2].
   double face_merge_angle = 2.0 * 3.14159265358979323846 / 180.0;
 };
 
@@ -112,10 +113,15 @@ inline double signed_distance_to_polygon(const std::vector<Eigen::Vector2d>& pol
 /// 3. Centred: bounds centred on x = y = 0, lowest point on z = 0.
 ///
 /// Works in any unit (scale first for metres). Deterministic. O(T log T) for
-/// T triangles. Throws like validate_mesh, and InvalidArgument if the mesh
-/// is flat (spans no volume).
+/// T triangles. Throws like validate_mesh (also for a mesh whose triangles
+/// all have zero area), InvalidArgument if the mesh is flat (spans no
+/// volume), has a coordinate beyond +-1e75 (areas and volumes would
+/// overflow), or settings.face_merge_angle is outside [0, pi/2].
 inline TablePlacement place_on_table(const TriangleMesh& mesh, const TablePlacementSettings& settings = {}) {
   validate_mesh(mesh);
+  if (!(settings.face_merge_angle >= 0 && settings.face_merge_angle <= 3.14159265358979323846 / 2))
+    throw InvalidArgument("settings.face_merge_angle",
+                          "must be in [0, pi/2] radians, got " + format_value(settings.face_merge_angle));
   // Only vertices that triangles use (some CAD files carry unused ones).
   std::vector<char> used(static_cast<std::size_t>(mesh.vertex_count()), 0);
   for (Index t = 0; t < mesh.triangle_count(); ++t)
@@ -123,6 +129,11 @@ inline TablePlacement place_on_table(const TriangleMesh& mesh, const TablePlacem
   Eigen::Matrix3Xd pts(3, std::count(used.begin(), used.end(), 1));
   for (Index v = 0, j = 0; v < mesh.vertex_count(); ++v)
     if (used[static_cast<std::size_t>(v)]) pts.col(j++) = mesh.vertices.col(v);
+  // Areas square and volumes cube the coordinates: beyond this they overflow.
+  constexpr double kMaxCoordinate = 1e75;
+  if (const double big = pts.cwiseAbs().maxCoeff(); !(big <= kMaxCoordinate))
+    throw InvalidArgument("mesh", "has a coordinate of magnitude " + format_value(big) + ", more than " +
+                                      format_value(kMaxCoordinate) + " (scale it down)");
   const TriangleMesh hull = convex_hull(pts);
   const Eigen::Vector3d com = mass_centroid(mesh);
 
@@ -201,6 +212,8 @@ inline TablePlacement place_on_table(const TriangleMesh& mesh, const TablePlacem
     mean += a * c.head<2>();
     total += a;
   }
+  if (!(total > 0))  // validate_mesh saw an area; its square underflowed (coordinates near 1e-160)
+    throw InvalidArgument("mesh", "triangle areas underflow to zero (scale the mesh up)");
   mean /= total;
   for (Index t = 0; t < mesh.triangle_count(); ++t) {
     // Exact second moment of the triangle's area:

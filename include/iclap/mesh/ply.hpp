@@ -3,6 +3,7 @@
 
 // PLY loader: ascii, binary_little_endian and binary_big_endian.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -249,6 +250,32 @@ inline PlyContent parse_ply(std::string_view data, const std::string& name, bool
     throw ParseError(name, vertex->line, "element 'vertex' lacks a scalar property x, y or z");
   if (vertex->count > static_cast<std::uint64_t>(INT32_MAX))
     throw ParseError(name, vertex->line, "too many vertices");
+  // Every element's items need bytes: refuse counts the rest of the file
+  // cannot hold before allocating or looping over them. Binary items take
+  // at least their scalar sizes plus their list counts' sizes (an element
+  // without properties takes none and is skipped); ascii items at least a
+  // value or an empty line and a line break (the last one may lack it).
+  {
+    const std::uint64_t body = data.size() - header.position();
+    const bool text = format == PlyFormat::ascii;
+    std::uint64_t need = 0;
+    for (const auto& e : elements) {
+      std::uint64_t item = 0;
+      if (text) {
+        item = e.properties.empty() ? 1 : 2;
+      } else {
+        for (const auto& p : e.properties) item += ply_type_size(p.is_list ? p.count_type : p.type);
+        if (item == 0) continue;
+      }
+      const std::uint64_t room = body + (text ? 1 : 0) - std::min(need, body + (text ? 1 : 0));
+      if (e.count > room / item)
+        throw ParseError(name, e.line,
+                         "element " + show_token(e.name) + " declares " + std::to_string(e.count) +
+                             " items, more than the " + std::to_string(body) +
+                             " bytes after the header can hold");
+      need += e.count * item;
+    }
+  }
   const std::int64_t nv = static_cast<std::int64_t>(vertex->count);
 
   PlyContent out;
@@ -279,6 +306,7 @@ inline PlyContent parse_ply(std::string_view data, const std::string& name, bool
           if (e.properties[i].is_list) face_list = static_cast<int>(i);
       if (face_list < 0) throw ParseError(name, e.line, "element 'face' has no list property of vertex indices");
     }
+    if (e.properties.empty() && !reader.ascii()) continue;  // no bytes to read
     for (std::uint64_t item = 0; item < e.count; ++item) {
       const std::string where = "element " + show_token(e.name) + " item " + std::to_string(item);
       for (std::size_t i = 0; i < e.properties.size(); ++i) {
@@ -313,8 +341,12 @@ inline PlyContent parse_ply(std::string_view data, const std::string& name, bool
         poly.clear();
         for (std::uint64_t k = 0; k < n; ++k) {
           const double idx = reader.read(p.type, what);
-          if (idx != std::floor(idx) || idx < 0 || idx >= static_cast<double>(nv))
-            reader.fail(where + ": vertex index " + std::to_string(static_cast<long long>(idx)) +
+          if (idx != std::floor(idx))
+            reader.fail(where + ": vertex index " + format_value(idx) + " is not an integer");
+          if (idx < 0 || idx >= static_cast<double>(nv))  // |idx| < 2^53 below: exact in long long
+            reader.fail(where + ": vertex index " +
+                        (std::abs(idx) < 9007199254740992.0 ? std::to_string(static_cast<long long>(idx))
+                                                             : format_value(idx)) +
                         " is out of range (" + std::to_string(nv) + " vertices)");
           poly.push_back(static_cast<int>(idx));
         }
@@ -342,7 +374,9 @@ inline PlyContent parse_ply(std::string_view data, const std::string& name, bool
 /// skipped; other scalar vertex properties are returned by name. Throws
 /// ParseError(name, line, reason) for header and ascii body errors and
 /// ParseError(name, 0, "byte offset N: reason") for binary bodies; nothing
-/// partial is returned.
+/// partial is returned. Element counts the rest of the file cannot hold are
+/// refused (at their header line) before anything is allocated; a binary
+/// element without properties takes no bytes.
 inline PlyContent read_ply(std::istream& in, const std::string& name) {
   return detail::parse_ply(detail::read_all(in, name), name, true);
 }

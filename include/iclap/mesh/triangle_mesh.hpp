@@ -40,7 +40,8 @@ struct TriangleMesh {
 };
 
 /// Throws InvalidArgument naming `argument` if `mesh` breaks an invariant
-/// (non-finite vertex, index out of range) or has no triangles. O(size).
+/// (non-finite vertex, index out of range), has no triangles, or has no
+/// triangle of positive area (every one degenerate: no surface). O(size).
 inline void validate_mesh(const TriangleMesh& mesh, const std::string& argument = "mesh") {
   if (mesh.triangles.cols() == 0) throw EmptyInput(argument, "has no triangles");
   for (Index v = 0; v < mesh.vertices.cols(); ++v)
@@ -54,6 +55,12 @@ inline void validate_mesh(const TriangleMesh& mesh, const std::string& argument 
                                             std::to_string(i) + " outside [0, " +
                                             std::to_string(mesh.vertices.cols()) + ")");
     }
+  bool any_area = false;
+  for (Index t = 0; t < mesh.triangles.cols() && !any_area; ++t)
+    any_area = (mesh.area_normal(t).array() != 0.0).any();
+  if (!any_area)
+    throw InvalidArgument(argument, "every one of its " + std::to_string(mesh.triangles.cols()) +
+                                        " triangles has zero area (no surface)");
 }
 
 /// Axis-aligned bounds of the vertices that triangles use.

@@ -34,10 +34,15 @@ struct ArmSettings {
   /// Standard deviation of the reported orientation's error, rad.
   double orientation_noise = 0.3 * 3.14159265358979323846 / 180.0;
 
+  /// Throws InvalidArgument naming the first setting that is not finite and >= 0.
   void validate() const {
-    if (!(position_resolution >= 0)) throw InvalidArgument("arm.position_resolution", "must be >= 0");
-    if (!(position_noise >= 0)) throw InvalidArgument("arm.position_noise", "must be >= 0");
-    if (!(orientation_noise >= 0)) throw InvalidArgument("arm.orientation_noise", "must be >= 0");
+    auto non_negative = [](double v, const char* name) {
+      if (!(v >= 0) || !std::isfinite(v))
+        throw InvalidArgument(name, "must be finite and >= 0, got " + format_value(v));
+    };
+    non_negative(position_resolution, "arm.position_resolution");
+    non_negative(position_noise, "arm.position_noise");
+    non_negative(orientation_noise, "arm.orientation_noise");
   }
 };
 
@@ -78,12 +83,20 @@ struct ExplorationSettings {
   double placement_shift = 10e-3;
   double placement_yaw = 10.0 * 3.14159265358979323846 / 180.0;
 
+  /// Largest max_frames_mean (the frame count is cast to an integer; the
+  /// `iclap simulate --frames` option has the same bound).
+  static constexpr double kMaxFramesMean = 1e6;
+
+  /// Throws InvalidArgument naming the first setting out of range; every
+  /// setting must be finite.
   void validate() const {
     auto positive = [](double v, const char* name) {
-      if (!(v > 0) || !std::isfinite(v)) throw InvalidArgument(name, "must be positive, got " + std::to_string(v));
+      if (!(v > 0) || !std::isfinite(v))
+        throw InvalidArgument(name, "must be finite and positive, got " + format_value(v));
     };
     auto non_negative = [](double v, const char* name) {
-      if (!(v >= 0) || !std::isfinite(v)) throw InvalidArgument(name, "must be >= 0, got " + std::to_string(v));
+      if (!(v >= 0) || !std::isfinite(v))
+        throw InvalidArgument(name, "must be finite and >= 0, got " + format_value(v));
     };
     positive(frame_rate, "exploration.frame_rate");
     positive(sweep_speed, "exploration.sweep_speed");
@@ -92,19 +105,27 @@ struct ExplorationSettings {
     positive(approach_speed, "exploration.approach_speed");
     positive(air_speed, "exploration.air_speed");
     if (!(turn_probability >= 0 && turn_probability <= 1))
-      throw InvalidArgument("exploration.turn_probability", "must be in [0, 1]");
+      throw InvalidArgument("exploration.turn_probability", "must be in [0, 1], got " + format_value(turn_probability));
     positive(clearance, "exploration.clearance");
     positive(sweep_length_min, "exploration.sweep_length_min");
+    positive(sweep_length_max, "exploration.sweep_length_max");
     if (!(sweep_length_max >= sweep_length_min))
-      throw InvalidArgument("exploration.sweep_length_max", "must be >= sweep_length_min");
+      throw InvalidArgument("exploration.sweep_length_max", "must be >= sweep_length_min, got " +
+                                                                format_value(sweep_length_max));
     positive(force_min, "exploration.force_min");
-    if (!(force_max >= force_min)) throw InvalidArgument("exploration.force_max", "must be >= force_min");
+    positive(force_max, "exploration.force_max");
+    if (!(force_max >= force_min))
+      throw InvalidArgument("exploration.force_max", "must be >= force_min, got " + format_value(force_max));
     non_negative(force_jitter, "exploration.force_jitter");
-    if (!(normal_follow > 0 && normal_follow <= 1)) throw InvalidArgument("exploration.normal_follow", "must be in (0, 1]");
+    if (!(normal_follow > 0 && normal_follow <= 1))
+      throw InvalidArgument("exploration.normal_follow", "must be in (0, 1], got " + format_value(normal_follow));
     positive(follow_drop, "exploration.follow_drop");
     non_negative(table_clearance, "exploration.table_clearance");
-    if (!(max_frames_mean >= 1)) throw InvalidArgument("exploration.max_frames_mean", "must be >= 1");
-    if (!(frames_spread >= 0 && frames_spread < 1)) throw InvalidArgument("exploration.frames_spread", "must be in [0, 1)");
+    if (!(max_frames_mean >= 1 && max_frames_mean <= kMaxFramesMean))
+      throw InvalidArgument("exploration.max_frames_mean",
+                            "must be in [1, " + format_value(kMaxFramesMean) + "], got " + format_value(max_frames_mean));
+    if (!(frames_spread >= 0 && frames_spread < 1))
+      throw InvalidArgument("exploration.frames_spread", "must be in [0, 1), got " + format_value(frames_spread));
     non_negative(placement_shift, "exploration.placement_shift");
     non_negative(placement_yaw, "exploration.placement_yaw");
   }

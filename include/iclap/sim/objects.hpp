@@ -156,11 +156,15 @@ class ManifestParser {
     if (!token_to_double(t_.substr(start, i_ - start), v)) fail("expected a number");
     return v;
   }
-  void skip_value() {
+  /// Deepest nesting of arrays and objects skip_value accepts (it recurses).
+  static constexpr int kMaxDepth = 256;
+
+  void skip_value(int depth = 2) {  // inside the top-level array's object
     const char c = peek();
     if (c == '"') {
       string();
     } else if (c == '{' || c == '[') {
+      if (depth >= kMaxDepth) fail("nesting deeper than " + std::to_string(kMaxDepth));
       const char close = c == '{' ? '}' : ']';
       ++i_;
       ws();
@@ -176,7 +180,7 @@ class ManifestParser {
           expect(':');
           ws();
         }
-        skip_value();
+        skip_value(depth + 1);
         ws();
         if (peek() == ',') {
           ++i_;

@@ -51,26 +51,49 @@ struct TactileSensorSettings {
   /// like the sensor's configurable threshold.
   double dead_band = 8.0;
 
-  /// Throws InvalidArgument naming the first setting out of range.
+  /// Largest extent, in height-field samples (pitch / samples_per_taxel),
+  /// of the pad along either side and of the spread's sigma: the model sizes
+  /// integer grids and kernels from them.
+  static constexpr double kMaxSamples = 1e4;
+
+  /// Throws InvalidArgument naming the first setting out of range; every
+  /// setting must be finite.
   void validate() const {
     auto positive = [](double v, const char* name) {
-      if (!(v > 0) || !std::isfinite(v)) throw InvalidArgument(name, "must be positive, got " + std::to_string(v));
+      if (!(v > 0) || !std::isfinite(v))
+        throw InvalidArgument(name, "must be finite and positive, got " + format_value(v));
+    };
+    auto non_negative = [](double v, const char* name) {
+      if (!(v >= 0) || !std::isfinite(v))
+        throw InvalidArgument(name, "must be finite and >= 0, got " + format_value(v));
     };
     if (rows < 1 || cols < 1) throw InvalidArgument("sensor.rows/cols", "must be >= 1");
     positive(pitch, "sensor.pitch");
+    if (samples_per_taxel < 1 || samples_per_taxel > 16)
+      throw InvalidArgument("sensor.samples_per_taxel", "must be in [1, 16]");
+    positive(pad_length, "sensor.pad_length");
+    positive(pad_width, "sensor.pad_width");
     if (pad_length < static_cast<double>(rows) * pitch - 1e-12)
       throw InvalidArgument("sensor.pad_length", "is shorter than rows * pitch");
     if (pad_width < static_cast<double>(cols) * pitch - 1e-12)
       throw InvalidArgument("sensor.pad_width", "is narrower than cols * pitch");
-    if (samples_per_taxel < 1 || samples_per_taxel > 16)
-      throw InvalidArgument("sensor.samples_per_taxel", "must be in [1, 16]");
+    const double sample = pitch / samples_per_taxel;
+    auto in_samples = [&](double v, const char* name) {
+      if (!(v / sample <= kMaxSamples))
+        throw InvalidArgument(name, format_value(v) + " m spans " + format_value(v / sample) +
+                                        " height-field samples (pitch / samples_per_taxel each), more than " +
+                                        format_value(kMaxSamples));
+    };
+    in_samples(pad_length, "sensor.pad_length");
+    in_samples(pad_width, "sensor.pad_width");
     positive(foam_thickness, "sensor.foam_thickness");
     positive(foam_modulus, "sensor.foam_modulus");
-    if (!(spread_sigma >= 0)) throw InvalidArgument("sensor.spread_sigma", "must be >= 0");
+    non_negative(spread_sigma, "sensor.spread_sigma");
+    in_samples(spread_sigma, "sensor.spread_sigma");
     positive(full_scale_pressure, "sensor.full_scale_pressure");
     positive(max_raw, "sensor.max_raw");
-    if (!(noise_sigma >= 0)) throw InvalidArgument("sensor.noise_sigma", "must be >= 0");
-    if (!(dead_band >= 0)) throw InvalidArgument("sensor.dead_band", "must be >= 0");
+    non_negative(noise_sigma, "sensor.noise_sigma");
+    non_negative(dead_band, "sensor.dead_band");
   }
 };
 
