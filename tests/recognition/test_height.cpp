@@ -161,7 +161,7 @@ TEST_CASE("the height classifier names what it is missing") {
   Eigen::VectorXd wrong(2);
   CHECK_THROWS_AS(height.distances(good, wrong), DimensionMismatch);
   height.tilt_scale = 0;
-  CHECK_THROWS_WITH_AS(height.fit({good}, 0), "tilt_scale: must be finite and > 0, got 0.000000", InvalidArgument);
+  CHECK_THROWS_WITH_AS(height.fit({good}, 0), "tilt_scale: must be finite and positive, got 0", InvalidArgument);
   height.tilt_scale = std::nan("");
   CHECK_THROWS_AS(height.fit({good}, 0), InvalidArgument);
 }
@@ -330,7 +330,7 @@ TEST_CASE("height_contact names bad settings and what it is missing") {
   HeightClassifier contact;
   contact.contact_scale = -0.5;
   const TouchSet good = with_contacts(touches({Eigen::Vector3d::Zero()}, {normal(0, 0)}), {Eigen::Matrix3Xd::Zero(3, 2)});
-  CHECK_THROWS_WITH_AS(contact.fit({good}, 0), "contact_scale: must be finite and >= 0, got -0.500000", InvalidArgument);
+  CHECK_THROWS_WITH_AS(contact.fit({good}, 0), "contact_scale: must be finite and >= 0, got -0.5", InvalidArgument);
   contact.contact_scale = std::numeric_limits<double>::infinity();
   CHECK_THROWS_AS(contact.fit({good}, 0), InvalidArgument);
   contact.contact_scale = 1;

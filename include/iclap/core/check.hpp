@@ -72,6 +72,16 @@ void check_coordinate_range(const Eigen::DenseBase<Derived>& m, const std::strin
     }
 }
 
+/// Throws InvalidArgument naming `argument` unless `v` is finite and > 0.
+inline void check_positive(double v, const std::string& argument) {
+  if (!(v > 0) || !std::isfinite(v)) throw InvalidArgument(argument, "must be finite and positive, got " + format_value(v));
+}
+
+/// Throws InvalidArgument naming `argument` unless `v` is finite and >= 0.
+inline void check_non_negative(double v, const std::string& argument) {
+  if (!(v >= 0) || !std::isfinite(v)) throw InvalidArgument(argument, "must be finite and >= 0, got " + format_value(v));
+}
+
 /// Throws DimensionMismatch naming `argument` when `actual != expected`.
 inline void check_dimension(Eigen::Index actual, Eigen::Index expected, const std::string& argument) {
   if (actual != expected) throw DimensionMismatch(argument, expected, actual);

@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 
+#include "iclap/core/check.hpp"
 #include "iclap/core/error.hpp"
 #include "iclap/recognition/classifier.hpp"
 #include "iclap/search/adaptive.hpp"
@@ -136,10 +137,8 @@ class HeightClassifier final : public Classifier {
   Index objects() const override { return static_cast<Index>(full_.size() + plane_.size()); }
 
   void validate() const {
-    if (!(tilt_scale > 0) || !std::isfinite(tilt_scale))
-      throw InvalidArgument("tilt_scale", "must be finite and > 0, got " + std::to_string(tilt_scale));
-    if (!(contact_scale >= 0) || !std::isfinite(contact_scale))
-      throw InvalidArgument("contact_scale", "must be finite and >= 0, got " + std::to_string(contact_scale));
+    check_positive(tilt_scale, "tilt_scale");
+    check_non_negative(contact_scale, "contact_scale");
   }
 
   /// The points (z, s theta, c l_1, c l_2) of `touches`, one column per

@@ -57,8 +57,7 @@ struct LabeledEmbedding {
   double label_scale = 0.001;
   Index dim(const TouchSet& /*touches*/) const noexcept { return 4; }
   void validate() const {
-    if (!(label_scale > 0) || !std::isfinite(label_scale))
-      throw InvalidArgument("label_scale", "must be finite and > 0, got " + std::to_string(label_scale));
+    check_positive(label_scale, "label_scale");
   }
   template <typename Scalar, int Dim>
   void weights(Point<Scalar, Dim>& w, Index d) const {
@@ -88,8 +87,7 @@ struct DescriptorEmbedding {
   double descriptor_scale = 0.01;
   Index dim(const TouchSet& touches) const noexcept { return 3 + touches.features.rows(); }
   void validate() const {
-    if (!(descriptor_scale > 0) || !std::isfinite(descriptor_scale))
-      throw InvalidArgument("descriptor_scale", "must be finite and > 0, got " + std::to_string(descriptor_scale));
+    check_positive(descriptor_scale, "descriptor_scale");
   }
   template <typename Scalar, int Dim>
   void weights(Point<Scalar, Dim>& w, Index d) const {
@@ -126,12 +124,10 @@ struct ContactEmbedding {
 
   Index dim(const TouchSet& /*touches*/) const noexcept { return dimension; }
   void validate() const {
-    if (Labeled && (!(label_scale > 0) || !std::isfinite(label_scale)))
-      throw InvalidArgument("label_scale", "must be finite and > 0, got " + std::to_string(label_scale));
+    if (Labeled) check_positive(label_scale, "label_scale");
     if (test_points_per_touch < 1)
       throw InvalidArgument("test_points_per_touch", "must be >= 1, got " + std::to_string(test_points_per_touch));
-    if (!(reference_voxel >= 0) || !std::isfinite(reference_voxel))
-      throw InvalidArgument("reference_voxel", "must be finite and >= 0, got " + std::to_string(reference_voxel));
+    check_non_negative(reference_voxel, "reference_voxel");
   }
   template <typename Scalar, int Dim>
   void weights(Point<Scalar, Dim>& w, Index d) const {

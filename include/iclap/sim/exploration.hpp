@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "iclap/core/check.hpp"
 #include "iclap/core/error.hpp"
 #include "iclap/core/random.hpp"
 #include "iclap/data/dataset.hpp"
@@ -36,13 +37,9 @@ struct ArmSettings {
 
   /// Throws InvalidArgument naming the first setting that is not finite and >= 0.
   void validate() const {
-    auto non_negative = [](double v, const char* name) {
-      if (!(v >= 0) || !std::isfinite(v))
-        throw InvalidArgument(name, "must be finite and >= 0, got " + format_value(v));
-    };
-    non_negative(position_resolution, "arm.position_resolution");
-    non_negative(position_noise, "arm.position_noise");
-    non_negative(orientation_noise, "arm.orientation_noise");
+    check_non_negative(position_resolution, "arm.position_resolution");
+    check_non_negative(position_noise, "arm.position_noise");
+    check_non_negative(orientation_noise, "arm.orientation_noise");
   }
 };
 
@@ -90,44 +87,36 @@ struct ExplorationSettings {
   /// Throws InvalidArgument naming the first setting out of range; every
   /// setting must be finite.
   void validate() const {
-    auto positive = [](double v, const char* name) {
-      if (!(v > 0) || !std::isfinite(v))
-        throw InvalidArgument(name, "must be finite and positive, got " + format_value(v));
-    };
-    auto non_negative = [](double v, const char* name) {
-      if (!(v >= 0) || !std::isfinite(v))
-        throw InvalidArgument(name, "must be finite and >= 0, got " + format_value(v));
-    };
-    positive(frame_rate, "exploration.frame_rate");
-    positive(sweep_speed, "exploration.sweep_speed");
-    non_negative(speed_jitter, "exploration.speed_jitter");
-    non_negative(heading_jitter, "exploration.heading_jitter");
-    positive(approach_speed, "exploration.approach_speed");
-    positive(air_speed, "exploration.air_speed");
+    check_positive(frame_rate, "exploration.frame_rate");
+    check_positive(sweep_speed, "exploration.sweep_speed");
+    check_non_negative(speed_jitter, "exploration.speed_jitter");
+    check_non_negative(heading_jitter, "exploration.heading_jitter");
+    check_positive(approach_speed, "exploration.approach_speed");
+    check_positive(air_speed, "exploration.air_speed");
     if (!(turn_probability >= 0 && turn_probability <= 1))
       throw InvalidArgument("exploration.turn_probability", "must be in [0, 1], got " + format_value(turn_probability));
-    positive(clearance, "exploration.clearance");
-    positive(sweep_length_min, "exploration.sweep_length_min");
-    positive(sweep_length_max, "exploration.sweep_length_max");
+    check_positive(clearance, "exploration.clearance");
+    check_positive(sweep_length_min, "exploration.sweep_length_min");
+    check_positive(sweep_length_max, "exploration.sweep_length_max");
     if (!(sweep_length_max >= sweep_length_min))
       throw InvalidArgument("exploration.sweep_length_max", "must be >= sweep_length_min, got " +
                                                                 format_value(sweep_length_max));
-    positive(force_min, "exploration.force_min");
-    positive(force_max, "exploration.force_max");
+    check_positive(force_min, "exploration.force_min");
+    check_positive(force_max, "exploration.force_max");
     if (!(force_max >= force_min))
       throw InvalidArgument("exploration.force_max", "must be >= force_min, got " + format_value(force_max));
-    non_negative(force_jitter, "exploration.force_jitter");
+    check_non_negative(force_jitter, "exploration.force_jitter");
     if (!(normal_follow > 0 && normal_follow <= 1))
       throw InvalidArgument("exploration.normal_follow", "must be in (0, 1], got " + format_value(normal_follow));
-    positive(follow_drop, "exploration.follow_drop");
-    non_negative(table_clearance, "exploration.table_clearance");
+    check_positive(follow_drop, "exploration.follow_drop");
+    check_non_negative(table_clearance, "exploration.table_clearance");
     if (!(max_frames_mean >= 1 && max_frames_mean <= kMaxFramesMean))
       throw InvalidArgument("exploration.max_frames_mean",
                             "must be in [1, " + format_value(kMaxFramesMean) + "], got " + format_value(max_frames_mean));
     if (!(frames_spread >= 0 && frames_spread < 1))
       throw InvalidArgument("exploration.frames_spread", "must be in [0, 1), got " + format_value(frames_spread));
-    non_negative(placement_shift, "exploration.placement_shift");
-    non_negative(placement_yaw, "exploration.placement_yaw");
+    check_non_negative(placement_shift, "exploration.placement_shift");
+    check_non_negative(placement_yaw, "exploration.placement_yaw");
   }
 };
 

@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include "iclap/core/check.hpp"
 #include "iclap/core/error.hpp"
 #include "iclap/core/random.hpp"
 #include "iclap/core/types.hpp"
@@ -59,20 +60,12 @@ struct TactileSensorSettings {
   /// Throws InvalidArgument naming the first setting out of range; every
   /// setting must be finite.
   void validate() const {
-    auto positive = [](double v, const char* name) {
-      if (!(v > 0) || !std::isfinite(v))
-        throw InvalidArgument(name, "must be finite and positive, got " + format_value(v));
-    };
-    auto non_negative = [](double v, const char* name) {
-      if (!(v >= 0) || !std::isfinite(v))
-        throw InvalidArgument(name, "must be finite and >= 0, got " + format_value(v));
-    };
     if (rows < 1 || cols < 1) throw InvalidArgument("sensor.rows/cols", "must be >= 1");
-    positive(pitch, "sensor.pitch");
+    check_positive(pitch, "sensor.pitch");
     if (samples_per_taxel < 1 || samples_per_taxel > 16)
       throw InvalidArgument("sensor.samples_per_taxel", "must be in [1, 16]");
-    positive(pad_length, "sensor.pad_length");
-    positive(pad_width, "sensor.pad_width");
+    check_positive(pad_length, "sensor.pad_length");
+    check_positive(pad_width, "sensor.pad_width");
     if (pad_length < static_cast<double>(rows) * pitch - 1e-12)
       throw InvalidArgument("sensor.pad_length", "is shorter than rows * pitch");
     if (pad_width < static_cast<double>(cols) * pitch - 1e-12)
@@ -86,14 +79,14 @@ struct TactileSensorSettings {
     };
     in_samples(pad_length, "sensor.pad_length");
     in_samples(pad_width, "sensor.pad_width");
-    positive(foam_thickness, "sensor.foam_thickness");
-    positive(foam_modulus, "sensor.foam_modulus");
-    non_negative(spread_sigma, "sensor.spread_sigma");
+    check_positive(foam_thickness, "sensor.foam_thickness");
+    check_positive(foam_modulus, "sensor.foam_modulus");
+    check_non_negative(spread_sigma, "sensor.spread_sigma");
     in_samples(spread_sigma, "sensor.spread_sigma");
-    positive(full_scale_pressure, "sensor.full_scale_pressure");
-    positive(max_raw, "sensor.max_raw");
-    non_negative(noise_sigma, "sensor.noise_sigma");
-    non_negative(dead_band, "sensor.dead_band");
+    check_positive(full_scale_pressure, "sensor.full_scale_pressure");
+    check_positive(max_raw, "sensor.max_raw");
+    check_non_negative(noise_sigma, "sensor.noise_sigma");
+    check_non_negative(dead_band, "sensor.dead_band");
   }
 };
 
