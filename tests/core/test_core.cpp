@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include <stdexcept>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -194,4 +196,24 @@ TEST_CASE("parallel_for visits every item once; ProgressCounter reports them one
                                          if (i == 7) throw std::runtime_error("item 7");
                                        }),
                   std::runtime_error);
+  // Several items fail: the smallest index's error, for any thread count
+  // and timing (item 13 fails last here; with 2 or 4 threads, a later item
+  // that failed first was reported, so the message changed with threads).
+  for (unsigned threads : {1u, 2u, 4u})
+    for (int run = 0; run < 3; ++run) {
+      CAPTURE(threads);
+      std::string message;
+      try {
+        detail::parallel_for(40, threads, [](std::size_t i, unsigned) {
+          if (i == 13) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+            throw std::runtime_error("item 13");
+          }
+          if (i > 13) throw std::runtime_error("item " + std::to_string(i));
+        });
+      } catch (const std::runtime_error& e) {
+        message = e.what();
+      }
+      CHECK(message == "item 13");
+    }
 }

@@ -20,14 +20,19 @@ inline unsigned worker_count(unsigned threads, std::size_t count) {
 
 /// Calls body(i, worker) for every i in [0, count), handed out one at a time
 /// to worker_count(threads, count) threads, the calling one included
-/// (worker < worker_count). After the first exception no new item starts,
-/// and it is rethrown once every thread has stopped. Items must write only
-/// their own state (or synchronise); results that depend only on i are then
-/// identical for any thread count.
+/// (worker < worker_count). After the first exception no new item starts;
+/// once every thread has stopped, the exception of the smallest item index
+/// that threw is rethrown. Items are handed out in index order, so every
+/// item before the first one to fail (in index order) has run: for items
+/// that fail depending only on i, that is the exception a single thread
+/// would throw, whatever the thread count and timing. Items must write
+/// only their own state (or synchronise); results that depend only on i
+/// are then identical for any thread count.
 template <typename Body>
 void parallel_for(std::size_t count, unsigned threads, Body&& body) {
   std::atomic<std::size_t> next{0};
   std::exception_ptr error;
+  std::size_t error_item = 0;
   std::mutex error_mutex;
   auto worker = [&](unsigned id) {
     for (;;) {
@@ -37,7 +42,10 @@ void parallel_for(std::size_t count, unsigned threads, Body&& body) {
         body(i, id);
       } catch (...) {
         std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
+        if (!error || i < error_item) {
+          error = std::current_exception();
+          error_item = i;
+        }
         next = count;
         return;
       }
