@@ -120,6 +120,10 @@ TEST_CASE("mesh io: more malformed input, from streams") {
             .rfind("3: facet loop has 2 vertices", 0) == 0);
   CHECK(stl_error("solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n").rfind("4: file ends inside a facet", 0) == 0);
   CHECK(stl_error("solid a\nbanana\n").rfind("2: unknown ASCII STL keyword 'banana'", 0) == 0);
+  // Cut between two facets: refused, not loaded as a smaller mesh.
+  const std::string facet = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
+  CHECK(stl_error("solid a\n" + facet + "endsolid a\n") == "accepted");
+  CHECK(stl_error("solid a\n" + facet) == "8: file ends inside a solid (no 'endsolid': is it cut short?)");
   CHECK(stl_error("hello").rfind("0: not an STL file", 0) == 0);
 
   auto ply_error = [](const std::string& text) {

@@ -151,6 +151,10 @@ inline TriangleMesh parse_stl_ascii(std::string_view text, const std::string& na
     }
   }
   if (in_loop || in_facet) throw ParseError(name, lines.line_number(), "file ends inside a facet");
+  // A file cut between two facets (a copy or a download cut short) would
+  // otherwise load as a smaller mesh.
+  if (in_solid)
+    throw ParseError(name, lines.line_number(), "file ends inside a solid (no 'endsolid': is it cut short?)");
   if (tri.empty()) throw ParseError(name, 0, "ASCII STL holds no facets");
   return finish_welded(weld, tri);
 }
