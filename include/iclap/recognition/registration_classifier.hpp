@@ -721,27 +721,13 @@ class RegistrationClassifier final : public Classifier {
   /// float included): it names `arg`.positions or `arg`.contact_points and
   /// the touch when one of those is the cause (1e300 m, a unit error, became
   /// inf in a float cloud and failed inside the registration as "non-finite
-  /// value inf at row 0, column 5"), otherwise the embedded point. One pass
-  /// over the points when they are in range.
+  /// value inf at row 0, column 5"), otherwise the embedded value
+  /// (check_coordinate_range). One pass over the points when they are in
+  /// range.
   static void check_range(const TouchSet& s, const Cloud<Scalar, Dim>& points, const std::string& arg) {
-    const double limit = largest_coordinate<Scalar>();
-    const auto beyond = [limit](double v) { return !(std::abs(v) <= limit); };
-    Index bad = -1;
-    for (Index j = 0; j < points.cols() && bad < 0; ++j)
-      for (Index r = 0; r < points.rows(); ++r)
-        if (beyond(static_cast<double>(points(r, j)))) bad = j;
-    if (bad < 0) return;
+    if ((points.array().abs().template cast<double>() <= largest_coordinate<Scalar>()).all()) return;
     check_touch_range(s, arg);
-    Index row = 0;
-    while (row + 1 < points.rows() && !beyond(static_cast<double>(points(row, bad)))) ++row;
-    throw InvalidArgument(arg, "embedded point " + std::to_string(bad) + ": coordinate " +
-                                   format_value(static_cast<double>(points(row, bad))) + " (row " +
-                                   std::to_string(row) + ")" + range_text() + "; rescale the features");
-  }
-
-  static std::string range_text() {
-    return std::string(" is beyond the ") + (std::is_same_v<Scalar, float> ? "float" : "double") +
-           " registration's range (|v| <= " + format_value(largest_coordinate<Scalar>()) + ")";
+    check_coordinate_range<Scalar>(points, arg);
   }
 
   /// Throws InvalidArgument naming `arg`.positions or `arg`.contact_points
@@ -749,13 +735,14 @@ class RegistrationClassifier final : public Classifier {
   static void check_touch_range(const TouchSet& s, const std::string& arg) {
     const double limit = largest_coordinate<Scalar>();
     const auto beyond = [limit](double v) { return !(std::abs(v) <= limit); };
-    const std::string range = range_text();
+    const std::string range = std::string(" is beyond the ") + (std::is_same_v<Scalar, float> ? "float" : "double") +
+                              " registration's range (|v| <= " + format_value(limit) +
+                              "); check the unit of the positions";
     for (Index i = 0; i < s.size(); ++i)
       for (Index r = 0; r < 3; ++r)
         if (beyond(s.positions(r, i)))
-          throw InvalidArgument(arg + ".positions", "touch " + std::to_string(i) + ": coordinate " +
-                                                        format_value(s.positions(r, i)) + range +
-                                                        "; check the unit of the positions");
+          throw InvalidArgument(arg + ".positions",
+                                "touch " + std::to_string(i) + ": coordinate " + format_value(s.positions(r, i)) + range);
     if (s.has_contacts())
       for (Index c = 0; c < s.contact_points.cols(); ++c)
         for (Index r = 0; r < 3; ++r)
@@ -763,8 +750,7 @@ class RegistrationClassifier final : public Classifier {
             const auto touch = std::upper_bound(s.contact_offsets.begin(), s.contact_offsets.end(), c) -
                                s.contact_offsets.begin() - 1;
             throw InvalidArgument(arg + ".contact_points", "touch " + std::to_string(touch) + ": coordinate " +
-                                                               format_value(s.contact_points(r, c)) + range +
-                                                               "; check the unit of the positions");
+                                                               format_value(s.contact_points(r, c)) + range);
           }
   }
 
