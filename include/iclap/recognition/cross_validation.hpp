@@ -168,11 +168,11 @@ class CrossValidation {
     if (methods_.empty()) throw EmptyInput("methods", "no method to evaluate");
     for (const auto& m : methods_) {
       m.validate();
-      // The weight grid needs a step for every term unless weights may be 0
-      // (weight_grid's condition; found at run() before, naming "steps").
-      if (m.fit_weights && !settings_.zero_weights)
+      // Checked here, naming the setting (run()'s weight_grid named "steps").
+      if (m.fit_weights)
         for (const auto& c : m.candidates())
-          if (settings_.weight_steps < static_cast<int>(c.children().size()))
+          if (!weight_grid_has_room(static_cast<int>(c.children().size()), settings_.weight_steps,
+                                    settings_.zero_weights))
             throw InvalidArgument("weight_steps", "is " + std::to_string(settings_.weight_steps) + ", fewer than the " +
                                                       std::to_string(c.children().size()) + " terms of method '" +
                                                       m.name + "' (" + c.to_string() +

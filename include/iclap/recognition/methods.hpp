@@ -213,6 +213,12 @@ inline std::vector<Method> paper_methods() {
   return out;
 }
 
+/// Whether `steps` steps leave a step for each of `terms` weights, which
+/// weight_grid needs unless weights may be 0.
+inline bool weight_grid_has_room(int terms, int steps, bool zero_weights) noexcept {
+  return zero_weights || steps >= terms;
+}
+
 /// The paper's brute-force weight grid: every vector of `terms` weights that
 /// are multiples of 1/`steps` (0.1 for steps = 10), each at least one step,
 /// summing to 1; in lexicographic order. 2 terms: 9 vectors (0.1..0.9);
@@ -222,9 +228,9 @@ inline std::vector<Method> paper_methods() {
 inline std::vector<std::vector<double>> weight_grid(int terms, int steps = 10, bool zero_weights = false) {
   if (terms < 1) throw InvalidArgument("terms", "must be at least 1, got " + std::to_string(terms));
   if (steps < 1) throw InvalidArgument("steps", "must be at least 1, got " + std::to_string(steps));
-  const int least = zero_weights ? 0 : 1;
-  if (steps < terms * least)
+  if (!weight_grid_has_room(terms, steps, zero_weights))
     throw InvalidArgument("steps", "must be at least the number of terms (" + std::to_string(terms) + ")");
+  const int least = zero_weights ? 0 : 1;
   std::vector<std::vector<double>> out;
   std::vector<int> parts(static_cast<std::size_t>(terms), least);
   // Enumerate compositions of `steps` into `terms` parts of at least `least`.
