@@ -295,9 +295,7 @@ class KMeansQuantizer {
     check_not_empty(features, "features");
     check_finite(features, "features");
     check_coordinate_range<Scalar>(features, "features");
-    double spread = 0.0;
-    for (Index j = 1; j < features.cols(); ++j)
-      spread = std::max(spread, (features.col(j) - features.col(0)).template cast<double>().cwiseAbs().maxCoeff());
+    const auto spread = static_cast<double>((features.colwise() - features.col(0)).cwiseAbs().maxCoeff());
     if (spread > 0.0 && spread < smallest_spread<Scalar>())
       throw InvalidArgument("features", "largest coordinate difference is " + format_value(spread) + ", below " +
                                             format_value(smallest_spread<Scalar>()) +
