@@ -10,6 +10,7 @@
 
 #include "iclap/core/random.hpp"
 #include "iclap/mesh/mesh.hpp"
+#include "../support/zero_area_mesh.hpp"
 
 namespace {
 
@@ -221,12 +222,7 @@ TEST_CASE("placement: shared real meshes become usable (flat, centred, in metres
 }
 
 TEST_CASE("mesh: triangles that all have zero area are refused by validate_mesh, placement and the BVH") {
-  // Four points spanning a volume, but every triangle repeats a vertex.
-  iclap::TriangleMesh m;
-  m.vertices.resize(3, 4);
-  m.vertices << 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1;
-  m.triangles.resize(3, 4);
-  m.triangles << 0, 1, 2, 3, 0, 1, 2, 3, 1, 2, 3, 0;
+  iclap::TriangleMesh m = iclap::test::zero_area_mesh();
   auto refused = [](auto&& f) {
     try {
       f();

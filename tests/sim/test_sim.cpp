@@ -18,6 +18,7 @@
 #include "iclap/data/csv_writer.hpp"
 #include "iclap/mesh/primitives.hpp"
 #include "iclap/sim/sim.hpp"
+#include "../support/zero_area_mesh.hpp"
 
 namespace {
 
@@ -423,11 +424,7 @@ TEST_CASE("mesh objects: manifest nesting is capped, not a stack overflow") {
 }
 
 TEST_CASE("mesh objects: a mesh of zero-area triangles is refused by name") {
-  iclap::TriangleMesh m;
-  m.vertices.resize(3, 4);
-  m.vertices << 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1;
-  m.triangles.resize(3, 4);
-  m.triangles << 0, 1, 2, 3, 0, 1, 2, 3, 1, 2, 3, 0;
+  const iclap::TriangleMesh m = iclap::test::zero_area_mesh();
   for (const bool place : {true, false}) {
     try {
       iclap::make_sim_object("degen", m, place);
