@@ -7,10 +7,12 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -72,8 +74,10 @@ const std::string kUsage = std::string(
     "  --seed S                seed of the touch draws and the codebook (default 1)\n"
     "  --normalization l2|minmax|zscore   distance normalisation (default l2, the paper's)\n"
     "  --threads N             worker threads (default 0: all cores); results do not depend on it\n"
-    "  --out DIR               output directory (default results); the files are moved\n"
-    "                          into it only once all of them are written\n"
+    "  --out DIR               output directory (default results; created, with missing\n"
+    "                          parents, if needed, and checked before the run); the files\n"
+    "                          are moved into it only once all of them are written, and a\n"
+    "                          run that fails leaves it as it was\n"
     "  --sim-seed S            seed of the built-in simulation (default 1)\n"
     "  --export-ply            also write each object's reference cloud (all its touches,\n"
     "                          label = word of a codebook fitted on all touches) as\n"
@@ -346,60 +350,218 @@ std::string file_name_of(const std::string& object) {
   return out;
 }
 
+// Creates `dir` and its missing ancestors, one at a time, and appends each
+// directory it created to `created` (outermost first). Errors name `what`
+// (the user's --out) and the part of the path that failed.
+void create_directories_noting(const fs::path& dir, const fs::path& what, std::vector<fs::path>& created) {
+  std::vector<fs::path> missing;  // innermost first
+  for (fs::path p = dir; !p.empty();) {
+    std::error_code ec;
+    const fs::file_status st = fs::status(p, ec);
+    if (st.type() != fs::file_type::not_found) {
+      if (ec) throw IoError(what.string(), "cannot create the output directory: " + p.string() + ": " + ec.message());
+      if (!fs::is_directory(st))
+        throw IoError(what.string(), "cannot create the output directory: " + p.string() + " is not a directory");
+      break;
+    }
+    missing.push_back(p);
+    fs::path parent = p.parent_path();
+    if (parent == p) break;
+    p = std::move(parent);
+  }
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+    std::error_code ec;
+    if (fs::create_directory(*it, ec)) {
+      created.push_back(*it);
+    } else if (ec) {
+      throw IoError(what.string(), "cannot create the output directory: cannot create " + it->string() + ": " +
+                                       ec.message());
+    }
+  }
+}
+
+// Removes the directories create_directories_noting made, innermost first,
+// each only if it is empty.
+void remove_created_directories(std::vector<fs::path>& created) {
+  for (auto it = created.rbegin(); it != created.rend(); ++it) {
+    std::error_code ec;
+    fs::remove(*it, ec);
+  }
+  created.clear();
+}
+
 // Writes a run's output files all or nothing: they go to a new directory
 // beside OUT (OUT.partial-PID-N) first; commit() moves them into OUT
-// (created if missing; its other files are kept), each with one rename.
-// Destroyed without a commit (a write failed), it removes that directory, so
-// a failed run leaves OUT as it was.
+// (created if missing; its other files are kept). commit() first checks that
+// every file can take its place, then replaces the files one by one, keeping
+// each old file (a hard link, or the file itself moved aside) until all are
+// in place; if a step fails it puts every old file back, so a failed run
+// leaves OUT as it was. Destroyed without a commit (a write failed), it
+// removes the staging directory and the parents of OUT it created.
 class StagedOutput {
  public:
+  /// Creates the staging directory beside OUT, and OUT's missing parent
+  /// directories. Errors name OUT as given.
   explicit StagedOutput(fs::path out) : out_(std::move(out)) {
-    if (out_.filename().empty()) out_ = out_.parent_path();  // "results/" -> "results"
+    // "results/" -> "results"
+    while (out_.has_relative_path() && out_.filename().empty()) out_ = out_.parent_path();
+    {
+      std::error_code ec;
+      const fs::file_status st = fs::status(out_, ec);
+      if (fs::exists(st) && !fs::is_directory(st)) throw IoError(out_.string(), "exists and is not a directory");
+      if (fs::is_directory(st) && ::access(out_.c_str(), W_OK | X_OK) != 0)
+        throw IoError(out_.string(), std::string("cannot write into the output directory: ") + std::strerror(errno));
+    }
+    create_directories_noting(out_.parent_path(), out_, created_);
     for (int n = 0;; ++n) {
       stage_ = out_;
       stage_ += ".partial-" + std::to_string(::getpid()) + "-" + std::to_string(n);
       std::error_code ec;
       if (fs::create_directory(stage_, ec)) break;
-      if (ec || n == 100) throw IoError(stage_.string(), "cannot create the output directory: " + ec.message());
+      if (ec || n == 100) {
+        remove_created_directories(created_);
+        throw IoError(out_.string(), "cannot create a staging directory beside it (" + stage_.string() +
+                                         "): " + (ec ? ec.message() : std::string("100 names taken")));
+      }
     }
   }
   StagedOutput(const StagedOutput&) = delete;
   StagedOutput& operator=(const StagedOutput&) = delete;
   ~StagedOutput() {
+    if (committed_) return;
     std::error_code ec;
-    if (!committed_) fs::remove_all(stage_, ec);
+    if (!keep_stage_) fs::remove_all(stage_, ec);
+    remove_created_directories(created_);
   }
 
-  /// Runs `write(dir)`, which writes the files into `dir`; a WriteError it
-  /// throws is thrown again naming the file's place in OUT.
+  /// Checks, before a run, that OUT can take these files (paths relative to
+  /// OUT) and that OUT/dirs[i] are directories where they exist.
+  void check(const std::vector<fs::path>& files, const std::vector<fs::path>& dirs) const {
+    for (const auto& f : files) check_target(f);
+    for (const auto& d : dirs) check_directory(out_ / d);
+  }
+
+  /// Runs `write(dir)`, which writes the files into `dir`; an error naming a
+  /// file of the staging directory is thrown again naming its place in OUT.
   template <typename F>
   void write(F&& write) const {
     try {
       write(stage_);
     } catch (const WriteError& e) {
-      throw WriteError((out_ / fs::path(e.path()).lexically_relative(stage_)).string(),
-                       "write failed; " + out_.string() + " was left as it was");
+      throw WriteError(in_out(e.path()), "write failed; " + out_.string() + " was left as it was");
+    } catch (const IoError& e) {
+      throw IoError(in_out(e.path()), strip_path(e) + "; " + out_.string() + " was left as it was");
+    } catch (const fs::filesystem_error& e) {
+      throw IoError(in_out(e.path1().string()), e.code().message() + "; " + out_.string() + " was left as it was");
     }
   }
 
   void commit() {
-    std::error_code ec;
-    fs::create_directories(out_, ec);
-    if (ec) throw IoError(out_.string(), "cannot create the output directory: " + ec.message());
-    for (auto it = fs::recursive_directory_iterator(stage_); it != fs::recursive_directory_iterator(); ++it) {
-      if (it->is_directory()) continue;
-      const fs::path target = out_ / fs::relative(it->path(), stage_);
-      fs::create_directories(target.parent_path(), ec);
-      if (!ec) fs::rename(it->path(), target, ec);
-      if (ec) throw IoError(target.string(), "cannot move into place: " + ec.message());
+    std::vector<fs::path> files;  // relative to the staging directory
+    for (auto it = fs::recursive_directory_iterator(stage_); it != fs::recursive_directory_iterator(); ++it)
+      if (!it->is_directory()) files.push_back(it->path().lexically_relative(stage_));
+    std::sort(files.begin(), files.end());
+    // Everything that can be checked is checked before OUT is touched.
+    for (const auto& f : files) check_target(f);
+
+    struct Replaced {
+      fs::path target, backup;  // backup empty: the target did not exist
+    };
+    std::vector<Replaced> done;
+    std::vector<fs::path> created;  // OUT and its subdirectories
+    try {
+      create_directories_noting(out_, out_, created);
+      for (const auto& f : files) {
+        const fs::path target = out_ / f;
+        create_directories_noting(target.parent_path(), out_, created);
+        std::error_code ec;
+        Replaced r{target, {}};
+        if (fs::exists(fs::symlink_status(target, ec))) {
+          r.backup = stage_ / ".replaced" / f;
+          fs::create_directories(r.backup.parent_path(), ec);
+          // A second name for the old file keeps it while the new one
+          // replaces it in one rename; without hard links it is moved aside.
+          if (!ec) fs::create_hard_link(target, r.backup, ec);
+          if (ec) {
+            ec.clear();
+            fs::rename(target, r.backup, ec);
+          }
+          if (ec) throw IoError(target.string(), "cannot keep the old file while replacing it: " + ec.message());
+        }
+        done.push_back(r);
+        fs::rename(stage_ / f, target, ec);
+        if (ec) throw IoError(target.string(), "cannot move into place: " + ec.message());
+      }
+    } catch (const IoError& e) {
+      // Put every old file back, newest first.
+      std::string lost;
+      for (auto it = done.rbegin(); it != done.rend(); ++it) {
+        std::error_code ec;
+        if (it->backup.empty())
+          fs::remove(it->target, ec);
+        else
+          fs::rename(it->backup, it->target, ec);
+        if (ec) {
+          lost += "; cannot restore " + it->target.string() + " (" + ec.message() + ")";
+          if (!it->backup.empty()) lost += ", its old content is kept as " + it->backup.string();
+        }
+      }
+      remove_created_directories(created);
+      if (!lost.empty()) {
+        keep_stage_ = true;
+        throw IoError(e.path(), strip_path(e) + lost);
+      }
+      throw IoError(e.path(), strip_path(e) + "; " + out_.string() + " was left as it was");
     }
     committed_ = true;
+    std::error_code ec;
     fs::remove_all(stage_, ec);
   }
 
  private:
+  static std::string strip_path(const IoError& e) {
+    const std::string what = e.what();
+    return what.rfind(e.path() + ": ", 0) == 0 ? what.substr(e.path().size() + 2) : what;
+  }
+
+  // A path of the staging directory as its place in OUT.
+  std::string in_out(const std::string& staged) const {
+    if (staged.empty()) return out_.string();
+    const fs::path rel = fs::path(staged).lexically_relative(stage_);
+    if (rel.empty() || *rel.begin() == "..") return staged;
+    return (rel == "." ? out_ : out_ / rel).string();
+  }
+
+  // A directory of OUT that is to receive files: missing, or a directory we
+  // may write into.
+  void check_directory(const fs::path& dir) const {
+    std::error_code ec;
+    const fs::file_status st = fs::status(dir, ec);
+    if (st.type() == fs::file_type::not_found) return;
+    if (ec) throw IoError(dir.string(), ec.message() + "; " + out_.string() + " was left as it was");
+    if (!fs::is_directory(st))
+      throw IoError(dir.string(), "is not a directory; " + out_.string() + " was left as it was");
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+      throw IoError(dir.string(), std::string("cannot write into it: ") + std::strerror(errno) + "; " + out_.string() +
+                                      " was left as it was");
+  }
+
+  // Can the staged file `rel` take its place in OUT?
+  void check_target(const fs::path& rel) const {
+    fs::path dir = out_;
+    check_directory(dir);
+    for (const auto& part : rel.parent_path()) check_directory(dir /= part);
+    const fs::path target = out_ / rel;
+    std::error_code ec;
+    if (fs::is_directory(fs::symlink_status(target, ec)))
+      throw IoError(target.string(), "is a directory, which the new " + rel.filename().string() +
+                                         " cannot replace; " + out_.string() + " was left as it was");
+  }
+
   fs::path out_, stage_;
+  std::vector<fs::path> created_;  // parents of OUT made by the constructor
   bool committed_ = false;
+  bool keep_stage_ = false;  // it holds old files that could not be restored
 };
 
 void export_reference_clouds(const fs::path& out, const TouchTable& table, const RecognitionOptions& options) {
@@ -446,6 +608,15 @@ int run_evaluate(const Args& args) {
     std::error_code ec;
     if (fs::exists(out, ec) && !fs::is_directory(out, ec))
       throw UsageError("--out: '" + out.string() + "' exists and is not a directory");
+    // A bad OUT fails now, not after the run: its parents can be created
+    // (they are removed again; the run's end creates them for good), a
+    // staging directory can be made beside it, and the tables can take their
+    // places. Figures are checked when the run knows them, still before OUT
+    // is touched.
+    StagedOutput probe(out);
+    std::vector<fs::path> dirs;
+    if (opt.flag("export-ply")) dirs.emplace_back("references");
+    probe.check({"results.csv", "weights.csv", "confusion.csv", "sweeps.csv"}, dirs);
   }
   const auto sim_seed = static_cast<std::uint64_t>(opt.integer("sim-seed", 1, 0));
 
