@@ -4,11 +4,15 @@
 // serial port into a dataset CSV, one flushed row per frame, each paired
 // with the pad pose from a pose source.
 
+#include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -30,6 +34,7 @@ namespace {
 
 using namespace iclap::cli;
 namespace rig = iclap::rig;
+namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 const std::string kUsage = std::string(
@@ -42,8 +47,10 @@ const std::string kUsage = std::string(
     "written, so a crash or an unplug loses at most the frame in flight and\n"
     "never leaves a partial row. An existing FILE is appended to (same grid and\n"
     "columns required); frame numbers of an exploration continue where the\n"
-    "file left them. Stops after N frames or S seconds, when a pose replay\n"
-    "ends, or on Ctrl-C; the sensor's stream is stopped in every case.\n"
+    "file left them. A new FILE is created at the first frame: a run that\n"
+    "records no frame (a silent sensor, an error before the first frame)\n"
+    "leaves no file behind. Stops after N frames or S seconds, when a pose\n"
+    "replay ends, or on Ctrl-C; the sensor's stream is stopped in every case.\n"
     "\n"
     "  --port PATH         the sensor's serial port\n"
     "  --object NAME       object name (class label): no commas or quotes\n"
@@ -58,7 +65,7 @@ const std::string kUsage = std::string(
     "  --pose SPEC         pad pose source (default fixed:0,0,0):\n") +
     iclap::rig::pose_spec_help("                        ") +
     "\n\n"
-    "Exit status: 0 done, 1 failure (sensor silent, write failed), 2 bad input,\n"
+    "Exit status: 0 done, 1 failure (no frame recorded, write failed), 2 bad input,\n"
     "3 the device was lost (the rows recorded so far are intact), 130 Ctrl-C\n"
     "(the rows recorded so far are intact).";
 
@@ -101,6 +108,28 @@ std::string drop_summary(const rig::WtsSensor& sensor) {
   return out;
 }
 
+// A file size limit (ulimit -f) makes a write fail (EFBIG: the appender cuts
+// the file back and throws WriteError, this command removes a file it
+// created without a row) instead of killing the process with SIGXFSZ
+// between the creation of the file and its first row. For the rest of the
+// process: the error message itself may go to a file under the same limit.
+void ignore_file_size_signal() {
+  struct sigaction sa {};
+  sa.sa_handler = SIG_IGN;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGXFSZ, &sa, nullptr);
+}
+
+// Throws IoError naming `path` unless a new file can be created there (a
+// missing directory, no permission): checked before the sensor streams,
+// although the file itself is only created at the first frame.
+void check_creatable(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) throw iclap::IoError(path, std::string("cannot create: ") + std::strerror(errno));
+  ::close(fd);
+  ::unlink(path.c_str());
+}
+
 // The next free frame number of (object, exploration) in an existing file.
 std::int64_t next_frame_index(const std::string& path, const std::string& object, std::int64_t exploration) {
   const iclap::Dataset d = iclap::read_dataset_csv(path);
@@ -119,7 +148,7 @@ int run_record(const Args& args) {
   const std::string object = o.string("object");
   const std::string out_path = o.string("out");
   const std::string problem = iclap::detail::object_name_problem(object);
-  if (!problem.empty()) throw UsageError("--object: '" + object + "' " + problem);
+  if (!problem.empty()) throw UsageError("--object: " + iclap::quote_text(object, 60) + " " + problem);
   const std::int64_t exploration = o.integer("exploration", 0, 0);
   if (o.has("frames") && o.has("seconds")) throw UsageError("--frames and --seconds exclude each other");
   // 0: no limit (plain values, not optionals: GCC 12 misreports those).
@@ -173,7 +202,9 @@ int run_record(const Args& args) {
     return StopSignals::exit_status();
   }
 
-  // The dataset: create it, or check and repair an existing one.
+  // The dataset: check and repair an existing one now, before the sensor
+  // streams; a new one is created at the first frame (so that a run that
+  // records nothing leaves no file), after checking now that it can be.
   std::vector<std::string> comments;
   {
     char pitch[64] = "";
@@ -191,16 +222,32 @@ int run_record(const Args& args) {
                        " frames/s; t is the sensor clock in seconds");
     comments.push_back("poses: " + poses->description());
   }
-  iclap::DatasetCsvAppender appender(out_path, grid.rows, grid.cols, /*time=*/true, poses->has_orientation(), comments);
-  if (appender.recovered_bytes() > 0)
-    std::fprintf(stderr, "iclap record: %s: cut off a partial last row (%zu bytes) left by an earlier run\n",
-                 out_path.c_str(), appender.recovered_bytes());
-  const std::int64_t first_frame =
-      appender.rows_in_file() > 0 ? next_frame_index(out_path, object, exploration) : 0;
-  if (appender.rows_in_file() > 0)
-    std::fprintf(stderr, "iclap record: appending to %s (%zu rows); %s exploration %lld continues at frame %lld\n",
-                 out_path.c_str(), appender.rows_in_file(), object.c_str(), static_cast<long long>(exploration),
-                 static_cast<long long>(first_frame));
+  ignore_file_size_signal();
+  std::error_code ec;
+  const bool existed = fs::exists(out_path, ec);
+  // An existing empty file is treated as new (it gets the header at the
+  // first frame, and is left empty if no frame comes).
+  const bool appending = existed && !(fs::is_regular_file(out_path, ec) && fs::file_size(out_path, ec) == 0 && !ec);
+  std::optional<iclap::DatasetCsvAppender> appender;
+  const auto open_appender = [&] {
+    appender.emplace(out_path, grid.rows, grid.cols, /*time=*/true, poses->has_orientation(), comments);
+  };
+  std::int64_t first_frame = 0;
+  if (appending) {
+    open_appender();
+    if (appender->recovered_bytes() > 0)
+      std::fprintf(stderr, "iclap record: %s: cut off a partial last row (%zu bytes) left by an earlier run\n",
+                   out_path.c_str(), appender->recovered_bytes());
+    if (appender->rows_in_file() > 0) {
+      first_frame = next_frame_index(out_path, object, exploration);
+      std::fprintf(stderr, "iclap record: appending to %s (%zu rows); %s exploration %lld continues at frame %lld\n",
+                   out_path.c_str(), appender->rows_in_file(), object.c_str(), static_cast<long long>(exploration),
+                   static_cast<long long>(first_frame));
+    }
+  } else if (!existed) {
+    check_creatable(out_path);
+  }
+  bool opened_here = false;  // the appender was opened at the first frame, on a new or empty file
 
   // Record.
   rig::SensorFrameSource source(sensor, *poses);
@@ -216,27 +263,54 @@ int run_record(const Args& args) {
     row.orientation = pf.pose.orientation;
     row.time = pf.time;
     row.pressures = pf.pressures;
-    appender.append(row);
+    if (!appender) {
+      opened_here = true;  // before opening: a failed header write may leave an empty file
+      open_appender();
+    }
+    appender->append(row);
     ++recorded;
   };
+  // Syncs the file; a file this run created (or an empty one it wrote the
+  // header into) that got no row is removed (emptied), so a failed or
+  // silent run leaves no header-only file to block the next one. A file
+  // that had content is never removed.
   const auto finish_file = [&] {
     status.finish();
-    try {
-      appender.sync();
-    } catch (const iclap::IoError& e) {
-      std::fprintf(stderr, "iclap record: warning: %s\n", e.what());
+    if (appender) {
+      try {
+        appender->sync();
+      } catch (const iclap::IoError& e) {
+        std::fprintf(stderr, "iclap record: warning: %s\n", e.what());
+      }
     }
+    if (recorded > 0 || !opened_here) return;
+    appender.reset();
+    std::error_code rm;
+    if (existed) fs::resize_file(out_path, 0, rm);
+    else fs::remove(out_path, rm);
+    if (rm)
+      std::fprintf(stderr, "iclap record: warning: %s: cannot remove the file this run created without a row: %s\n",
+                   out_path.c_str(), rm.message().c_str());
+  };
+  // What became of the file when no frame was recorded.
+  const auto no_frame_note = [&] {
+    return out_path + (appending ? " is unchanged" : existed ? " is left empty" : " was not created");
   };
   const auto summary = [&](const char* how) {
+    if (recorded == 0) {
+      std::fprintf(stderr, "iclap record: %s: no frame recorded; %s; %s\n", how, no_frame_note().c_str(),
+                   drop_summary(sensor).c_str());
+      return;
+    }
     std::fprintf(stderr, "iclap record: %s: %lld frames recorded to %s (%s exploration %lld, frames %lld..%lld); %s\n",
                  how, recorded, out_path.c_str(), object.c_str(), static_cast<long long>(exploration),
                  static_cast<long long>(first_frame), static_cast<long long>(first_frame + recorded - 1),
                  drop_summary(sensor).c_str());
   };
 
+  const auto start = Clock::now();
   try {
     sensor.start_periodic_frames(rate);
-    const auto start = Clock::now();
     auto last_frame_at = start;
     bool warned_silent = false;
     rig::PosedFrame pf;
@@ -292,7 +366,7 @@ int run_record(const Args& args) {
     } catch (...) {
     }
     finish_file();
-    if (recorded > 0) summary("stopped by an error");
+    summary("stopped by an error");
     throw;
   }
 
@@ -310,6 +384,14 @@ int run_record(const Args& args) {
   if (StopSignals::requested()) {
     summary("interrupted");
     return StopSignals::exit_status();
+  }
+  if (recorded == 0) {
+    char waited[32];
+    std::snprintf(waited, sizeof waited, "%.3g", std::chrono::duration<double>(Clock::now() - start).count());
+    std::fprintf(stderr, "iclap record: failed: no frame recorded from %s in %s s%s; %s; %s\n", port_path.c_str(),
+                 waited, pose_ended ? " (the pose replay ended)" : " (is the sensor silent?)", no_frame_note().c_str(),
+                 drop_summary(sensor).c_str());
+    return kExitFailure;
   }
   summary(pose_ended ? "pose replay ended" : "done");
   return kExitOk;

@@ -291,6 +291,123 @@ TEST_CASE("iclap record: --seconds, --grid and a silent sensor") {
   }
 }
 
+TEST_CASE("iclap record: a run that records no frame leaves no file behind and exits 1") {
+  Scratch scratch;
+  {  // A grid the frames do not fit: exit 1 and no header-only file, so the
+     // advised retry with the right grid records.
+    const std::string out = scratch("grid.csv");
+    {
+      FakeSensorScript script;
+      script.answer_matrix_info = false;
+      PtyFakeSensor fake(script);
+      auto args = record_args(fake.path(), out);
+      args.insert(args.end(), {"--grid", "10x6", "--frames", "5"});
+      const auto r = run_iclap(args, scratch);
+      INFO(r.err);
+      CHECK(r.status == 1);
+      CHECK(r.err.find("frames of 84 taxels but the grid 10x6 has 60; pass --grid ROWSxCOLS") != std::string::npos);
+      CHECK_FALSE(fs::exists(out));
+    }
+    FakeSensorScript script;
+    script.answer_matrix_info = false;
+    PtyFakeSensor fake(script);
+    auto args = record_args(fake.path(), out);
+    args.insert(args.end(), {"--grid", "14x6", "--frames", "5"});
+    const auto r = run_iclap(args, scratch);
+    INFO(r.err);
+    CHECK(r.status == 0);
+    CHECK(r.err.find("appending") == std::string::npos);
+    REQUIRE(fs::exists(out));
+    CHECK(iclap::read_dataset_csv(out).frames.size() == 5);
+  }
+  {  // A silent sensor: exit 1 ("sensor silent" in the usage), no file.
+    FakeSensorScript script;
+    script.max_frames = 0;
+    PtyFakeSensor fake(script);
+    auto args = record_args(fake.path(), scratch("silent.csv"));
+    args.insert(args.end(), {"--seconds", "0.3"});
+    const auto r = run_iclap(args, scratch);
+    INFO(r.err);
+    CHECK(r.status == 1);
+    CHECK(r.err.find("no frame recorded from " + fake.path()) != std::string::npos);
+    CHECK(r.err.find(scratch("silent.csv") + " was not created") != std::string::npos);
+    CHECK(r.err.find("..-1") == std::string::npos);
+    CHECK_FALSE(fs::exists(scratch("silent.csv")));
+    CHECK_FALSE(fake.streaming());
+  }
+  {  // Appending with a silent sensor: exit 1, the file is kept byte for byte;
+     // an existing empty file stays (empty).
+    iclap::Dataset one;
+    one.rows = 14;
+    one.cols = 6;
+    iclap::Frame f;
+    f.object = "mug";
+    f.exploration = 2;
+    f.time = 1.0;
+    f.pressures = Eigen::MatrixXd::Zero(14, 6);
+    one.frames.push_back(f);
+    iclap::write_dataset_csv(scratch("kept.csv"), one);
+    std::ofstream(scratch("empty.csv")).flush();
+    for (const std::string name : {"kept.csv", "empty.csv"}) {
+      CAPTURE(name);
+      const std::string before = test::read_text(scratch(name));
+      FakeSensorScript script;
+      script.max_frames = 0;
+      PtyFakeSensor fake(script);
+      auto args = record_args(fake.path(), scratch(name));
+      args.insert(args.end(), {"--seconds", "0.2", "--pose", "fixed:0,0,0"});
+      const auto r = run_iclap(args, scratch);
+      INFO(r.err);
+      CHECK(r.status == 1);
+      REQUIRE(fs::exists(scratch(name)));
+      CHECK(test::read_text(scratch(name)) == before);
+    }
+  }
+  {  // Ctrl-C before the first frame: exit 130, no file.
+    FakeSensorScript script;
+    script.max_frames = 0;
+    PtyFakeSensor fake(script);
+    const std::string out = scratch("sigint.csv");
+    const pid_t pid = test::spawn_process([&] {
+      std::vector<std::string> argv{ICLAP_CLI_PATH};
+      for (auto& a : record_args(fake.path(), out)) argv.push_back(a);
+      return argv;
+    }(), scratch("sigint.stdout"), scratch("sigint.stderr"));
+    REQUIRE(fake.wait_for([&] { return fake.streaming(); }));
+    ::kill(pid, SIGINT);
+    const int status = test::wait_process(pid);
+    INFO(test::read_text(scratch("sigint.stderr")));
+    CHECK(status == 130);
+    CHECK_FALSE(fs::exists(out));
+  }
+  {  // A file size limit (ulimit -f 0) fails the header's write: exit 1 (not
+     // killed by SIGXFSZ), and the empty file it created is removed. (Its
+     // stderr, a file too, stays empty under the limit.)
+    FakeSensorScript script;
+    PtyFakeSensor fake(script);
+    const std::string out = scratch("limit.csv");
+    std::vector<std::string> argv{"/bin/sh", "-c", "ulimit -f 0 && exec \"$0\" \"$@\"", ICLAP_CLI_PATH};
+    for (auto& a : record_args(fake.path(), out)) argv.push_back(a);
+    argv.insert(argv.end(), {"--frames", "3", "--pose", "fixed:0,0,0"});
+    const auto r = test::run_process(argv, scratch("limit"));
+    CHECK(r.status == 1);
+    CHECK_FALSE(fs::exists(out));
+    CHECK_FALSE(fake.streaming());
+  }
+}
+
+TEST_CASE("iclap record: control bytes of a name are shown as \\xNN") {
+  Scratch scratch;
+  const auto r = run_iclap(
+      {"record", "--port", "/dev/null", "--object", "ab\x1b[2Jc\rX", "--exploration", "0", "--out", scratch("q.csv")},
+      scratch);
+  CHECK(r.status == 2);
+  CHECK(r.err.find("--object: 'ab\\x1b[2Jc\\x0dX' contains a control character") != std::string::npos);
+  CHECK(r.err.find('\x1b') == std::string::npos);
+  CHECK(r.err.find('\r') == std::string::npos);
+  CHECK_FALSE(fs::exists(scratch("q.csv")));
+}
+
 TEST_CASE("iclap record: usage errors exit 2 and name the option") {
   Scratch scratch;
   const test::UsageCases cases = {
