@@ -110,7 +110,8 @@ const std::string kUsage = std::string(
     "object needed); each held-out exploration is replayed touch by touch in time\n"
     "order. Prints, per confidence threshold, the accuracy at the stop and the mean\n"
     "and median touches used, and the accuracy of fixed numbers of touches:\n"
-    "  --fixed LIST        fixed touch counts to compare with (default 5,10,20)\n"
+    "  --fixed LIST        fixed touch counts to compare with (default 5,10,20 without\n"
+    "                      the counts above --max-touches; --max-touches itself if all are)\n"
     "  --repeats N         random draws per case for the random-draw rates (default 10)\n"
     "  --traces FILE.csv   also write the state after every replayed touch: fold, object,\n"
     "                      exploration, touches, recognised, confidence, correct and the\n"
@@ -156,6 +157,28 @@ std::vector<int> parse_counts(const std::string& text, const std::string& what, 
   return out;
 }
 
+/// Throws UsageError naming `option` and `path` unless a file can be written
+/// to `path` (atomically, by AtomicFileWriter): `path` is not a directory,
+/// its directory exists and a temporary file can be created in it (tried
+/// and removed at once).
+void check_output_path(const std::string& path, const std::string& option) {
+  const std::string where = option + " " + quote_text(path);
+  std::error_code ec;
+  if (path.empty()) throw UsageError(option + ": the path is empty");
+  if (fs::is_directory(path, ec)) throw UsageError(where + ": is a directory; give a file name");
+  const fs::path parent = fs::path(path).parent_path();
+  if (!parent.empty() && !fs::is_directory(parent, ec))
+    throw UsageError(where + ": the directory " + quote_text(parent.string()) +
+                     (fs::exists(parent, ec) ? " is not a directory" : " does not exist"));
+  try {
+    AtomicFileWriter probe(path);  // removed again (no commit)
+  } catch (const IoError& e) {
+    std::string why = e.what();  // "PATH: why"
+    if (why.compare(0, path.size() + 2, path + ": ") == 0) why.erase(0, path.size() + 2);
+    throw UsageError(where + ": " + why);
+  }
+}
+
 Dataset read_dataset_with_warnings(const std::string& path) {
   return read_dataset_csv(path, [](const DatasetWarning& w) {
     std::fprintf(stderr, "%s:%zu: warning: %s\n", w.file.c_str(), w.line, w.message.c_str());
@@ -193,10 +216,17 @@ int run_cross_validation(const Options& o, const Setup& setup, const std::string
   if (min_touches > max_touches)
     throw UsageError("--min-touches " + std::to_string(min_touches) + " exceeds --max-touches " +
                      std::to_string(max_touches));
-  std::vector<int> fixed = parse_counts(o.string("fixed", "5,10,20"), "--fixed", 100000);
-  for (int n : fixed)
-    if (n > max_touches)
-      throw UsageError("--fixed: " + std::to_string(n) + " exceeds --max-touches " + std::to_string(max_touches));
+  std::vector<int> fixed;
+  if (o.has("fixed")) {
+    fixed = parse_counts(o.string("fixed"), "--fixed", 100000);
+    for (int n : fixed)
+      if (n > max_touches)
+        throw UsageError("--fixed: " + std::to_string(n) + " exceeds --max-touches " + std::to_string(max_touches));
+  } else {  // the default counts that --max-touches allows
+    for (int n : {5, 10, 20})
+      if (n <= max_touches) fixed.push_back(n);
+    if (fixed.empty()) fixed.push_back(static_cast<int>(max_touches));
+  }
 
   LiveEvaluationSettings s;
   s.max_touches = max_touches;
@@ -316,12 +346,13 @@ SimObject simulation_object(const std::string& spec, const std::string& unit) {
       const fs::path manifest = fs::path(spec).parent_path() / "meshes.json";
       const std::string file = fs::path(spec).filename().string();
       if (!fs::exists(manifest))
-        throw UsageError("--simulate " + spec + ": no " + manifest.string() + " gives its unit; pass --unit m or mm");
+        throw UsageError("--simulate " + quote_text(spec) + ": no " + quote_text(manifest.string()) +
+                         " gives its unit; pass --unit m or mm");
       const auto scales = read_mesh_manifest(manifest.string());
       const auto it = scales.find(file);
       if (it == scales.end())
-        throw UsageError("--simulate " + spec + ": " + manifest.string() + " does not list " + file +
-                         "; pass --unit m or mm");
+        throw UsageError("--simulate " + quote_text(spec) + ": " + quote_text(manifest.string()) + " does not list " +
+                         quote_text(file) + "; pass --unit m or mm");
       scale = it->second;
     } else {
       scale = metres_per_unit(parse_length_unit(unit, "--unit"));
@@ -330,7 +361,7 @@ SimObject simulation_object(const std::string& spec, const std::string& unit) {
     scale_mesh(mesh, scale);
     return make_sim_object(fs::path(spec).stem().string(), std::move(mesh), true);
   }
-  throw UsageError("--simulate: '" + spec + "' is neither a built-in object (" + Options::join(names, ", ") +
+  throw UsageError("--simulate: " + quote_text(spec, 80) + " is neither a built-in object (" + Options::join(names, ", ") +
                    ") nor a mesh file (.obj, .stl, .ply)");
 }
 
@@ -363,7 +394,7 @@ LiveSource make_source(const Options& o) {
       if ((!by_object || f.object == object) && (!by_exploration || f.exploration == exploration))
         kept.push_back(std::move(f));
     if (kept.empty()) {
-      std::string what = by_object ? "object '" + object + "'" : std::string();
+      std::string what = by_object ? "object " + quote_text(object, 60) : std::string();
       if (by_exploration) what += std::string(what.empty() ? "" : ", ") + "exploration " + std::to_string(exploration);
       throw UsageError("--replay " + path + " has no frame" + (what.empty() ? std::string() : " of " + what));
     }
@@ -507,7 +538,7 @@ int run_live(const Options& o, const Setup& setup, const std::string& path, cons
     throw UsageError("the source's taxel grid " + rig::to_string(grid) + " differs from the references' " +
                      std::to_string(dataset.rows) + "x" + std::to_string(dataset.cols) +
                      (src.sensor ? " (--grid ROWSxCOLS overrides the sensor's)" : ""));
-  const double pitch = taxel_pitch_of(dataset);
+  const double pitch = naming_inputs(path, [&] { return taxel_pitch_of(dataset); });
   std::printf("source: %s\n", src.source->description().c_str());
   std::fflush(stdout);
 
@@ -581,8 +612,17 @@ int run_live(const Options& o, const Setup& setup, const std::string& path, cons
       frame.orientation = pf.pose.orientation;
       if (check_positions_of_touches) {
         const std::string problem = position_problem(frame.position, setup.ro);
-        if (!problem.empty())
-          throw InvalidArgument(src.source->description(), "frame " + std::to_string(frames) + ": " + problem);
+        if (!problem.empty()) {
+          // A dataset's row by its labels (as the references' check);
+          // otherwise the count of frames received.
+          const auto* replay = dynamic_cast<const rig::DatasetFrameSource*>(src.source.get());
+          const std::string which =
+              replay ? "object " + quote_text(replay->last_frame().object, 60) + " exploration " +
+                           std::to_string(replay->last_frame().exploration) + " frame " +
+                           std::to_string(replay->last_frame().frame)
+                     : "frame " + std::to_string(frames) + " received";
+          throw InvalidArgument(src.source->description(), which + ": " + problem);
+        }
       }
       stop = session.add_touch(live_touch_of(frame, setup.ro.contact_threshold, pitch, std::move(feature), word));
       std::printf("touch %ld (frame %zu): %s, confidence %s", static_cast<long>(session.touches()), frames,
@@ -664,8 +704,13 @@ int run_live_command(const Args& args) {
   }
   const bool cross_validate = o.flag("cross-validate");
   if (cross_validate) {
-    for (const char* opt : {"port", "replay", "simulate", "top"})
+    // The sources and their options: the references are the source.
+    for (const char* opt : {"port", "replay", "simulate", "top", "pose", "rate", "grid", "object", "exploration",
+                            "sim-seed", "unit"})
       if (o.has(opt)) throw UsageError(std::string("--cross-validate takes no --") + opt + " (it replays the references)");
+    if (o.flag("real-time")) throw UsageError("--cross-validate takes no --real-time (it replays the references)");
+    // The traces' path, checked before the (long) computation.
+    if (o.has("traces")) check_output_path(o.string("traces"), "--traces");
   } else if (o.has("confidence") && o.string("confidence").find(',') != std::string::npos) {
     throw UsageError("--confidence: a list of thresholds needs --cross-validate");
   }

@@ -488,6 +488,113 @@ TEST_CASE("iclap live: bad input exits 2 with a clear message") {
   test::check_usage_errors(cases, scratch);
 }
 
+TEST_CASE("iclap live --cross-validate: source options are refused, --traces is checked before computing") {
+  Scratch scratch;
+  // Quick if a case were not refused (as these were): fixed weights, few touches.
+  const std::vector<std::string> cv = {"live", "--references", kTrain, "--cross-validate", "--method", kMethod,
+                                       "--max-touches", "2", "--fixed", "2", "--repeats", "1"};
+  const auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = cv;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  };
+  test::UsageCases cases = {
+      {with({"--object", "hammer"}), "--cross-validate takes no --object"},
+      {with({"--exploration", "7"}), "--cross-validate takes no --exploration"},
+      {with({"--pose", "fixed:0,0,0"}), "--cross-validate takes no --pose"},
+      {with({"--rate", "1000"}), "--cross-validate takes no --rate"},
+      {with({"--grid", "3x3"}), "--cross-validate takes no --grid"},
+      {with({"--real-time"}), "--cross-validate takes no --real-time"},
+      {with({"--sim-seed", "5"}), "--cross-validate takes no --sim-seed"},
+      {with({"--unit", "mm"}), "--cross-validate takes no --unit"},
+  };
+  fs::create_directories(scratch.dir / "tracedir");
+  const std::string missing = scratch("nodir") + "/t.csv";
+  cases.push_back({with({"--traces", missing}),
+                   "--traces '" + missing + "': the directory '" + scratch("nodir") + "' does not exist"});
+  cases.push_back({with({"--traces", scratch("tracedir")}), "--traces '" + scratch("tracedir") + "': is a directory"});
+  test::check_usage_errors(cases, scratch);
+  // Refused before the cross validation: nothing of the report was printed.
+  for (const auto& traces : {missing, scratch("tracedir")}) {
+    const auto r = run_iclap(with({"--traces", traces}), scratch);
+    CHECK(r.status == 2);
+    CHECK(r.out.empty());
+  }
+  CHECK(fs::is_empty(scratch.dir / "tracedir"));
+}
+
+TEST_CASE("iclap live --cross-validate: the default --fixed counts are those --max-touches allows") {
+  Scratch scratch;
+  // The rows of the "fixed number of touches" table: their touch counts.
+  const auto fixed_rows = [](const std::string& out) {
+    std::vector<std::string> counts;
+    const auto at = out.find("\nfixed number of touches\n");
+    REQUIRE(at != std::string::npos);
+    std::istringstream in(out.substr(at + 1));
+    std::string line;
+    std::getline(in, line);  // title
+    std::getline(in, line);  // column heads
+    while (std::getline(in, line) && !line.empty()) {
+      std::istringstream l(line);
+      std::string first;
+      l >> first;
+      counts.push_back(first);
+    }
+    return counts;
+  };
+  for (const auto& max_and_rows : std::vector<std::pair<std::string, std::vector<std::string>>>{{"6", {"5"}},
+                                                                                                {"3", {"3"}}}) {
+    const std::string& max = max_and_rows.first;
+    const std::vector<std::string>& expected = max_and_rows.second;
+    CAPTURE(max);
+    const auto r = run_iclap({"live", "--references", kTrain, "--cross-validate", "--method", kMethod,
+                              "--max-touches", max, "--confidence", "0.5", "--repeats", "1"},
+                             scratch);
+    INFO(r.out);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(fixed_rows(r.out) == expected);
+  }
+  // A count the user gave is still refused.
+  const auto r = run_iclap({"live", "--references", kTrain, "--cross-validate", "--method", kMethod, "--max-touches",
+                            "6", "--fixed", "5,10"},
+                           scratch);
+  CHECK(r.status == 2);
+  CHECK(r.err.find("--fixed: 10 exceeds --max-touches 6") != std::string::npos);
+}
+
+TEST_CASE("iclap live --replay: a bad position names the dataset row; control bytes in names are quoted") {
+  Scratch scratch;
+  iclap::Dataset d = iclap::read_dataset_csv(kTrain);
+  const auto contact = std::find_if(d.frames.begin(), d.frames.end(), [](const iclap::Frame& fr) {
+    return iclap::is_contact(fr);
+  });
+  REQUIRE(contact != d.frames.end());
+  contact->position.x() = 1e300;
+  const std::string row = "object '" + contact->object + "' exploration " + std::to_string(contact->exploration) +
+                          " frame " + std::to_string(contact->frame) + ": ";
+  iclap::write_dataset_csv(scratch("far.csv"), d);
+  const test::UsageCases cases = {
+      {{"live", "--references", kTrain, "--method", "0.5*icp+0.5*bow", "--replay", scratch("far.csv")},
+       "replay of " + scratch("far.csv") + ": " + row + "position coordinate 1e+300 m is beyond"},
+      {{"live", "--references", kTrain, "--method", kMethod, "--replay", kClamp, "--object", "a\x01" "b"},
+       "has no frame of object 'a\\x01b'"},
+      {{"live", "--references", kTrain, "--method", kMethod, "--simulate", "tea\x1b[2Jpot\r"},
+       "--simulate: 'tea\\x1b[2Jpot\\x0d' is neither a built-in object"},
+  };
+  for (const auto& usage_case : cases) {
+    const std::string& needle = usage_case.second;
+    CAPTURE(needle);
+    const auto r = run_iclap(usage_case.first, scratch);
+    INFO(r.err);
+    CHECK(r.status == 2);
+    CHECK(r.err.find(needle) != std::string::npos);
+    CHECK(std::none_of(r.err.begin(), r.err.end(), [](char ch) {
+      return ch != '\n' && iclap::is_control_byte(static_cast<unsigned char>(ch));
+    }));
+  }
+}
+
 TEST_CASE("SimFrameSource: the frames of simulate_exploration, optionally paced in real time") {
   const iclap::SimObject object = iclap::builtin_object("scissors");
   iclap::SimulationSettings settings;
