@@ -2,10 +2,14 @@
 //
 // `iclap register MODEL TEST`: N-D ICP of two point files.
 
+#include <cmath>
 #include <cstdio>
 #include <string>
+#include <type_traits>
+#include <vector>
 
 #include "cli.hpp"
+#include "iclap/core/check.hpp"
 #include "iclap/io/point_file.hpp"
 #include "iclap/registration/registration.hpp"
 
@@ -20,8 +24,10 @@ const char* const kUsage =
     "Registers TEST onto MODEL with the N-D (labeled) ICP and prints T_model_test\n"
     "(maps TEST coordinates into the MODEL frame), the RMSE, the iterations and the\n"
     "stop reason. Point files: one point per line, numbers separated by whitespace\n"
-    "or commas, an optional header line, '#' comments; the dimension is the column\n"
-    "count and must be equal in both files (e.g. x,y,z,label for iCLAP).\n"
+    "or commas, an optional header line (a first line without any number in it),\n"
+    "'#' comments; the dimension is the column count and must be equal in both\n"
+    "files (e.g. x,y,z,label for iCLAP). A coordinate (times its --weights) must be\n"
+    "within 1.8e15 with --scalar float, 1.3e150 in double.\n"
     "\n"
     "options:\n"
     "  --transform full|spatial|planar|translation   motion model (default full:\n"
@@ -43,6 +49,7 @@ const char* const kUsage =
 struct Request {
   Eigen::MatrixXd model, test;
   std::string model_path, test_path;
+  std::vector<std::size_t> model_lines, test_lines;  // line of each point in its file
   std::string transform, scalar, search;
   int max_iterations = 50;
   double tolerance = 0, relative_tolerance = 1e-6, max_distance = 0, trim = 1;
@@ -126,6 +133,32 @@ int run_typed(const Request& q) {
   return iclap::cli::kExitOk;
 }
 
+/// Refuses, naming the file, the line and the value, a coordinate whose
+/// weighted magnitude is beyond what a registration in `Scalar` takes
+/// (largest_coordinate: 1.8e15 in float, 1.3e150 in double, where squared
+/// distances would overflow; in float this also covers a finite double
+/// such as 1e39 that the cast would turn into inf). Checked before the
+/// registration so the message names the file, not an internal argument.
+template <typename Scalar>
+void check_point_range(const Eigen::MatrixXd& points, const std::vector<std::size_t>& lines, const std::string& path,
+                       const std::vector<double>& weights) {
+  const double limit = iclap::largest_coordinate<Scalar>();
+  const char* type = std::is_same_v<Scalar, float> ? "float" : "double";
+  for (Eigen::Index j = 0; j < points.cols(); ++j)
+    for (Eigen::Index k = 0; k < points.rows(); ++k) {
+      const double v = points(k, j);
+      const double w = weights.empty() ? 1.0 : weights[static_cast<std::size_t>(k)];
+      if (std::abs(w * v) <= limit) continue;
+      std::string why = "value " + iclap::format_value(v) + " in column " + std::to_string(k + 1);
+      if (w != 1.0) why += " (times its weight " + iclap::format_value(w) + ")";
+      why += std::string(" is beyond what a registration in ") + type + " takes (|value| <= " +
+             iclap::format_value(limit) + "): squared distances would overflow; rescale the points" +
+             (w != 1.0 ? " or the weights" : "") +
+             (std::is_same_v<Scalar, float> ? " or use --scalar double" : "");
+      throw iclap::ParseError(path, lines[static_cast<std::size_t>(j)], why);
+    }
+}
+
 template <typename Scalar, typename Model>
 int with_dim(const Request& q) {
   // 3-D (the kinesthetic case) gets a compile-time dimension; any other
@@ -166,8 +199,8 @@ int run_register(const iclap::cli::Args& args) {
   q.align_centroids = opt.flag("align-centroids");
   q.json = opt.flag("json");
 
-  q.model = iclap::read_point_file(q.model_path);
-  q.test = iclap::read_point_file(q.test_path);
+  q.model = iclap::read_point_file(q.model_path, &q.model_lines);
+  q.test = iclap::read_point_file(q.test_path, &q.test_lines);
   if (q.test.rows() != q.model.rows())
     throw UsageError("TEST has " + std::to_string(q.test.rows()) + " columns, MODEL has " +
                      std::to_string(q.model.rows()) + ": the dimensions must be equal");
@@ -178,7 +211,39 @@ int run_register(const iclap::cli::Args& args) {
     for (double w : q.weights)
       if (!(w > 0)) throw UsageError("--weights: every weight must be > 0, got " + std::to_string(w));
   }
-  return q.scalar == "float" ? with_model<float>(q) : with_model<double>(q);
+  const bool is_float = q.scalar == "float";
+  for (const auto* f : {&q.model, &q.test}) {
+    const bool model = f == &q.model;
+    const auto& lines = model ? q.model_lines : q.test_lines;
+    const auto& path = model ? q.model_path : q.test_path;
+    if (is_float) check_point_range<float>(*f, lines, path, q.weights);
+    else check_point_range<double>(*f, lines, path, q.weights);
+  }
+  try {
+    return is_float ? with_model<float>(q) : with_model<double>(q);
+  } catch (const iclap::InvalidArgument& e) {
+    // The library names its arguments: "points" is the MODEL cloud (e.g.
+    // its spread from the centroid is too large even though every value is
+    // in range), "test" the TEST cloud, "weights" the option.
+    if (e.argument() == "points") throw iclap::InvalidArgument(q.model_path, e.reason());
+    if (e.argument() == "weights") throw UsageError("--weights: " + e.reason());
+    if (e.argument() == "test") {
+      // "point I ...": I is the index of a TEST point; give its line.
+      const std::string& reason = e.reason();
+      std::size_t i = 0, used = 0;
+      if (reason.rfind("point ", 0) == 0) {
+        try {
+          i = std::stoul(reason.substr(6), &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+      }
+      if (used > 0 && i < q.test_lines.size())
+        throw iclap::ParseError(q.test_path, q.test_lines[i], "this point" + reason.substr(6 + used));
+      throw iclap::InvalidArgument(q.test_path, reason);
+    }
+    throw;
+  }
 }
 
 }  // namespace

@@ -117,6 +117,38 @@ TEST_CASE("labeled cloud ply: bad input is rejected and writes nothing") {
   CHECK_FALSE(iclap::test::temporary_left_beside(path));
 }
 
+TEST_CASE("labeled cloud ply: binary refuses a finite coordinate beyond float32, ascii keeps it") {
+  // 1e39 is a finite double but inf as float32: the binary file would hold
+  // inf where the caller gave a number. Refused before anything is written.
+  const std::string path = temp_file("beyond_float.ply");
+  Eigen::Matrix3Xd p = Eigen::Matrix3Xd::Zero(3, 3);
+  p(1, 2) = -1e39;
+  const std::vector<int> labels = {0, 1, 2};
+  try {
+    iclap::write_labeled_cloud_ply(path, p, labels, {iclap::PlyEncoding::binary_little_endian, {}});
+    FAIL("accepted");
+  } catch (const iclap::InvalidArgument& e) {
+    const std::string what = e.what();
+    CHECK(what.find("point 2") != std::string::npos);
+    CHECK(what.find("-1e+39") != std::string::npos);
+    CHECK(what.find("float32") != std::string::npos);
+  }
+  CHECK_FALSE(fs::exists(path));
+  CHECK_FALSE(iclap::test::temporary_left_beside(path));
+  // The largest float is still written, exactly.
+  p(1, 2) = -static_cast<double>(std::numeric_limits<float>::max());
+  iclap::write_labeled_cloud_ply(path, p, labels, {iclap::PlyEncoding::binary_little_endian, {}});
+  const auto back = iclap::read_ply(path);
+  fs::remove(path);
+  REQUIRE(back.vertices.cols() == 3);
+  CHECK(back.vertices(1, 2) == p(1, 2));
+  // ASCII writes doubles: 1e39 is kept as is.
+  p(1, 2) = -1e39;
+  iclap::write_labeled_cloud_ply(path, p, labels, {iclap::PlyEncoding::ascii, {}});
+  CHECK(iclap::read_ply(path).vertices(1, 2) == -1e39);
+  fs::remove(path);
+}
+
 TEST_CASE("labeled cloud ply: reads back with a PLY reader (ascii exact, binary float)") {
   iclap::Rng rng(5);
   Eigen::Matrix3Xd p(3, 200);

@@ -3,6 +3,7 @@
 
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "iclap/io/point_file.hpp"
 
@@ -59,4 +60,26 @@ TEST_CASE("point files: every malformed case names the file and the line") {
   // Only the first line may be a header.
   CHECK(error_of("a b\nc d\n") == "pts.txt:2: 'c' in column 1 is not a number");
   CHECK_THROWS_AS(read_point_file("/nonexistent/points.txt"), IoError);
+}
+
+TEST_CASE("point files: a first line with a number in it is a point, never a dropped header") {
+  // A typo (letter O for zero) on the first line used to make it the header:
+  // the point was dropped without a word.
+  const std::string hint = " (a first line with a number in it is a point, not a header)";
+  CHECK(error_of("0 0 O\n1 1 1\n2 2 2\n") == "pts.txt:1: 'O' in column 3 is not a number" + hint);
+  CHECK(error_of("x 0 z\n1 1 1\n") == "pts.txt:1: 'x' in column 1 is not a number" + hint);
+  CHECK(error_of("# comment\n\n1,2,3O\n4,5,6\n") == "pts.txt:3: '3O' in column 3 is not a number" + hint);
+  // A header is a first line none of whose fields is a number.
+  const auto p = parse("# c\n\nx y z_m\n1 2 3\n");
+  CHECK(p.rows() == 3);
+  CHECK(p.cols() == 1);
+  CHECK(parse("x1,y1,z1\n1,2,3\n").cols() == 1);
+}
+
+TEST_CASE("point files: the line of every point") {
+  std::istringstream in("# c\nx y\n1 2\n\n3 4\r\n# d\n5 6\n");
+  std::vector<std::size_t> lines;
+  const auto p = read_point_file(in, "pts.txt", &lines);
+  CHECK(p.cols() == 3);
+  CHECK(lines == std::vector<std::size_t>{3, 5, 7});
 }

@@ -423,6 +423,47 @@ TEST_CASE("mesh objects: manifest nesting is capped, not a stack overflow") {
                        "meshes.json:1: nesting deeper than 256", iclap::ParseError);
 }
 
+TEST_CASE("mesh objects: a file listed twice in meshes.json is refused at the second entry") {
+  // The second entry used to override the first silently (a 1 mm-scale cube
+  // read as metres became 1000 times larger).
+  auto parse = [](const std::string& text) { return iclap::detail::ManifestParser(text, "meshes.json").parse(); };
+  try {
+    parse("[{\"file\": \"cube.obj\", \"scale_to_metres\": 0.001},\n"
+          " {\"file\": \"other.obj\", \"scale_to_metres\": 1},\n"
+          " {\"file\": \"cube.obj\",\n  \"scale_to_metres\": 1}]");
+    FAIL("accepted");
+  } catch (const iclap::ParseError& e) {
+    CHECK(e.file() == "meshes.json");
+    CHECK(e.line() == 3);
+    CHECK(e.reason() == "'cube.obj' is listed twice (first at line 1)");
+  }
+  // Even with the same scale: the manifest is ambiguous or a copy-paste slip.
+  CHECK_THROWS_WITH_AS(parse("[{\"file\": \"a.obj\", \"scale_to_metres\": 1}, {\"file\": \"a.obj\", "
+                             "\"scale_to_metres\": 1}]"),
+                       "meshes.json:1: 'a.obj' is listed twice (first at line 1)", iclap::ParseError);
+  // Entries without both members are ignored, so they are not duplicates.
+  const auto scales = parse("[{\"file\": \"a.obj\"}, {\"file\": \"a.obj\", \"scale_to_metres\": 0.01}]");
+  CHECK(scales.at("a.obj") == 0.01);
+
+  // Through load_mesh_objects: the error names the manifest's path.
+  const std::string dir = std::string(ICLAP_TEST_FIXTURES) + "/mesh/objects";
+  const fs::path tmp =
+      fs::temp_directory_path() / ("iclap_test_sim_dup_" + std::to_string(static_cast<long>(::getpid())));
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  fs::copy_file(dir + "/block.obj", tmp / "block.obj");
+  std::ofstream(tmp / "meshes.json") << "[\n{\"file\": \"block.obj\", \"scale_to_metres\": 0.001},\n"
+                                        "{\"file\": \"block.obj\", \"scale_to_metres\": 1}\n]\n";
+  try {
+    iclap::load_mesh_objects(tmp.string());
+    FAIL("accepted");
+  } catch (const iclap::ParseError& e) {
+    CHECK(e.file() == (tmp / "meshes.json").string());
+    CHECK(e.line() == 3);
+  }
+  fs::remove_all(tmp);
+}
+
 TEST_CASE("mesh objects: a mesh of zero-area triangles is refused by name") {
   const iclap::TriangleMesh m = iclap::test::zero_area_mesh();
   for (const bool place : {true, false}) {

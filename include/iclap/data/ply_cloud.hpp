@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -69,8 +70,10 @@ inline std::array<std::uint8_t, 3> label_colour(long long label) {
 ///
 /// Throws DimensionMismatch if `positions` does not have 3 rows or the label
 /// count differs from the point count, NonFiniteValue for a NaN or infinite
-/// coordinate, InvalidArgument for a label outside int32 or a comment with a
-/// line break, IoError if the file cannot be written. O(N).
+/// coordinate, InvalidArgument for a coordinate beyond the float32 range
+/// (|v| > FLT_MAX, about 3.4e38) in binary mode (it would be written as
+/// inf), a label outside int32 or a comment with a line break, IoError if
+/// the file cannot be written. Nothing is written when it throws. O(N).
 template <typename Derived, typename Labels>
 void write_labeled_cloud_ply(const std::string& path, const Eigen::MatrixBase<Derived>& positions,
                              const Labels& labels, const LabeledCloudPlyOptions& options = {}) {
@@ -82,6 +85,21 @@ void write_labeled_cloud_ply(const std::string& path, const Eigen::MatrixBase<De
     for (Eigen::Index k = 0; k < 3; ++k)
       if (!std::isfinite(static_cast<double>(positions(k, i))))
         throw NonFiniteValue("positions", k, i, static_cast<double>(positions(k, i)));
+  const bool binary = options.encoding == PlyEncoding::binary_little_endian;
+  if (binary) {
+    // float32 positions: a finite double beyond FLT_MAX would become inf.
+    const double float_max = static_cast<double>(std::numeric_limits<float>::max());
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (Eigen::Index k = 0; k < 3; ++k) {
+        const double v = static_cast<double>(positions(k, i));
+        if (std::abs(v) > float_max)
+          throw InvalidArgument("positions", std::string("coordinate ") + "xyz"[k] + " = " + format_value(v) +
+                                                 " of point " + std::to_string(i) + " (row " + std::to_string(k) +
+                                                 ", column " + std::to_string(i) +
+                                                 ") is beyond the float32 range of binary PLY (|v| <= " +
+                                                 format_value(float_max) + "); rescale or write ASCII");
+      }
+  }
   for (Eigen::Index i = 0; i < n; ++i) {
     const long long l = static_cast<long long>(labels[static_cast<decltype(labels.size())>(i)]);
     if (l < INT32_MIN || l > INT32_MAX)
@@ -92,7 +110,6 @@ void write_labeled_cloud_ply(const std::string& path, const Eigen::MatrixBase<De
     if (c.find_first_of("\r\n") != std::string::npos)
       throw InvalidArgument("options.comments", "a comment contains a line break");
 
-  const bool binary = options.encoding == PlyEncoding::binary_little_endian;
   std::string out = "ply\nformat ";
   out += binary ? "binary_little_endian" : "ascii";
   out += " 1.0\ncomment written by iclap (labeled point cloud)\n";

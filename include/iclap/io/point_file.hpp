@@ -9,6 +9,7 @@
 #include <fstream>
 #include <istream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -18,16 +19,22 @@
 namespace iclap {
 
 /// Reads a plain point file: one point per line, numbers separated by
-/// whitespace and/or commas; an optional header line (a first line that is
-/// not all numbers); empty lines and lines starting with '#' are skipped;
+/// whitespace and/or commas; an optional header line (the first line that
+/// is not empty nor a comment, when none of its fields is a number: a first
+/// line mixing numbers and words, e.g. the typo "0 0 O", is a ParseError, not
+/// a header); empty lines and lines starting with '#' are skipped;
 /// CRLF line endings and a UTF-8 byte-order mark are accepted. The dimension
 /// is the number of columns, the same on every line.
 ///
 /// Returns the points one per column (dim x n, double). Throws ParseError
 /// ("FILE:LINE: reason") for a malformed number, NaN or infinity, a wrong
 /// column count or a file without points; nothing partial is returned.
-inline Eigen::MatrixXd read_point_file(std::istream& in, const std::string& name) {
+/// With `lines`, it receives the 1-based line number of each point (for
+/// messages about a point found later, e.g. a value out of range).
+inline Eigen::MatrixXd read_point_file(std::istream& in, const std::string& name,
+                                       std::vector<std::size_t>* lines = nullptr) {
   std::vector<double> values;
+  std::vector<std::size_t> point_lines;
   std::size_t dim = 0, count = 0, line_no = 0;
   bool seen_content = false;
   std::string line;
@@ -81,15 +88,22 @@ inline Eigen::MatrixXd read_point_file(std::istream& in, const std::string& name
       if (res.ec == std::errc::result_out_of_range && res.ptr == end)
         throw ParseError(name, line_no, quote_text(tok, 40) + " in column " + std::to_string(k + 1) + " is out of the range of a double");
       if (res.ec != std::errc() || res.ptr != end) {
-        bad_token = tok;
-        bad_column = k + 1;
-        break;
+        if (bad_token.empty()) {
+          bad_token = tok;
+          bad_column = k + 1;
+        }
+        continue;  // look at every field: a header has no number at all
       }
       row.push_back(v);
     }
     if (!bad_token.empty()) {
-      if (first_content) continue;  // the optional header line
-      throw ParseError(name, line_no, quote_text(bad_token, 40) + " in column " + std::to_string(bad_column) + " is not a number");
+      // The optional header: the first line with content, none of whose
+      // fields is a number. A first line that mixes numbers and words (a typo
+      // such as "0 0 O") is a malformed point, not a header to drop.
+      if (first_content && row.empty()) continue;
+      throw ParseError(name, line_no,
+                       quote_text(bad_token, 40) + " in column " + std::to_string(bad_column) + " is not a number" +
+                           (first_content ? " (a first line with a number in it is a point, not a header)" : ""));
     }
     for (std::size_t k = 0; k < row.size(); ++k)
       if (!std::isfinite(row[k]))
@@ -102,6 +116,7 @@ inline Eigen::MatrixXd read_point_file(std::istream& in, const std::string& name
                            " (the dimension set by the first point)");
     }
     values.insert(values.end(), row.begin(), row.end());
+    point_lines.push_back(line_no);
     ++count;
   }
   if (in.bad()) throw IoError(name, "read error");
@@ -110,14 +125,15 @@ inline Eigen::MatrixXd read_point_file(std::istream& in, const std::string& name
   for (std::size_t j = 0; j < count; ++j)
     for (std::size_t i = 0; i < dim; ++i)
       points(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = values[j * dim + i];
+  if (lines) *lines = std::move(point_lines);
   return points;
 }
 
 /// Same, from a file path (errors name the path).
-inline Eigen::MatrixXd read_point_file(const std::string& path) {
+inline Eigen::MatrixXd read_point_file(const std::string& path, std::vector<std::size_t>* lines = nullptr) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path, std::string("cannot open: ") + std::strerror(errno));
-  return read_point_file(in, path);
+  return read_point_file(in, path, lines);
 }
 
 }  // namespace iclap

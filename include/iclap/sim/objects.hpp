@@ -58,6 +58,7 @@ class ManifestParser {
 
   std::map<std::string, double> parse() {
     std::map<std::string, double> scales;
+    std::map<std::string, std::size_t> entry_lines;  // file -> line of its entry
     ws();
     expect('[');
     ws();
@@ -94,6 +95,11 @@ class ManifestParser {
         }
         if (file && scale) {
           if (!(*scale > 0)) throw ParseError(name_, entry_line, "scale_to_metres of '" + *file + "' must be positive");
+          // A second entry for a file would silently override the first.
+          const auto [at, added] = entry_lines.emplace(*file, entry_line);
+          if (!added)
+            throw ParseError(name_, entry_line,
+                             "'" + *file + "' is listed twice (first at line " + std::to_string(at->second) + ")");
           scales[*file] = *scale;
         }
         ws();
@@ -208,7 +214,8 @@ class ManifestParser {
 
 /// Reads a meshes.json manifest (a JSON array of objects with "file" and
 /// "scale_to_metres", as in the team's shared mesh folder): file name ->
-/// metres per file unit. Entries without both members are ignored. Throws
+/// metres per file unit. Entries without both members are ignored; a file
+/// with two such entries is a ParseError at the second. Throws
 /// IoError / ParseError(file, line, reason).
 inline std::map<std::string, double> read_mesh_manifest(const std::string& path) {
   return detail::ManifestParser(detail::read_file(path), path).parse();
