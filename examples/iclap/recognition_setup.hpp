@@ -181,6 +181,7 @@ struct RecognitionOptions {
            "  --contact-scale S       metres per metre of contact-patch extent for height_contact\n"
            "                          (default 1: a millimetre of patch size counts as a\n"
            "                          millimetre of height)\n"
+           "                          (each scale option: > 0 and <= 1e6)\n"
            "  --scalar float|double   ICP arithmetic (default float)\n"
            "  --search auto|kdtree|brute  closest-point search: auto (default) scans small\n"
            "                          references by brute force and builds kd-trees for the\n"
@@ -197,20 +198,40 @@ struct RecognitionOptions {
            "  --patch-points N        contact points per test touch for patch, iclap_patch (default 8)\n"
            "  --patch-voxel V         reference voxel for patch, iclap_patch, metres (default 0.002)\n";
   }
+  /// The largest value of a scale option (--label-scale, --descriptor-scale,
+  /// --tilt-scale, --contact-scale), metres per unit: 1e6, a thousand
+  /// kilometres per word step, radian or metre of patch, 1e6 to 1e9 times
+  /// the defaults. A scale multiplies a quantity that a sane dataset keeps
+  /// small: a word index below k <= 100000, a tilt <= pi rad, a contact-patch
+  /// extent of a pad of centimetres, a descriptor value (Tactile-SIFT <= 1,
+  /// raw pressures of a 12- to 16-bit sensor <= 65535). Times 1e6 they stay
+  /// below about 1e11, four orders of magnitude inside the float ICP's
+  /// largest_coordinate (1.8e15) and squarable in double by the height
+  /// classifiers; beyond it (1e20 gave a label axis of 1e21 m) the
+  /// registration failed deep inside a fold, naming an internal matrix.
+  static constexpr double kLargestScale = 1e6;
+
+  /// The value of scale option `name` (or `fallback`): in (0, kLargestScale],
+  /// UsageError naming the option and the value otherwise.
+  static double scale_option(const Options& o, const std::string& name, double fallback) {
+    const double v = o.number(name, fallback);
+    if (!(v > 0 && v <= kLargestScale))
+      throw UsageError("--" + name + " must be > 0 and <= " + format_value(kLargestScale) + ", got " +
+                       format_value(v) +
+                       (v > 0 ? " (metres per unit: a larger scale overflows the squared distances)" : ""));
+    return v;
+  }
+
   void parse(const Options& o) {
     descriptor = o.choice("descriptor", {"sift", "raw", "moments"}, descriptor);
     transform = o.choice("transform", {"full", "spatial", "planar", "translation"}, transform);
     scalar = o.choice("scalar", {"float", "double"}, scalar);
     search = o.choice("search", {"auto", "kdtree", "brute"}, search);
     k = static_cast<Index>(o.integer("k", k, 1, 100000));
-    label_scale = o.number("label-scale", label_scale, 0.0);
-    if (!(label_scale > 0)) throw UsageError("--label-scale must be > 0");
-    descriptor_scale = o.number("descriptor-scale", descriptor_scale, 0.0);
-    if (!(descriptor_scale > 0)) throw UsageError("--descriptor-scale must be > 0");
-    tilt_scale = o.number("tilt-scale", tilt_scale, 0.0);
-    if (!(tilt_scale > 0)) throw UsageError("--tilt-scale must be > 0");
-    contact_scale = o.number("contact-scale", contact_scale, 0.0);
-    if (!(contact_scale > 0)) throw UsageError("--contact-scale must be > 0");
+    label_scale = scale_option(o, "label-scale", label_scale);
+    descriptor_scale = scale_option(o, "descriptor-scale", descriptor_scale);
+    tilt_scale = scale_option(o, "tilt-scale", tilt_scale);
+    contact_scale = scale_option(o, "contact-scale", contact_scale);
     max_iterations = static_cast<int>(o.integer("max-iterations", max_iterations, 0, 100000));
     relative_tolerance = o.number("relative-tolerance", relative_tolerance, 0.0);
     if (o.has("trim")) parse_trim(o.string("trim"));
@@ -387,19 +408,28 @@ inline void check_positions(const std::vector<std::string>& needed, const TouchT
 /// for cross validation) becomes `dataset`, the file (or origin) the table
 /// was made from, as does "dataset" (e.g. no contact frame), and
 /// "settings.k" (a codebook larger than the training touches) becomes
-/// "--k". Other exceptions pass through.
+/// "--k". Any other InvalidArgument (a matrix the touches of the dataset
+/// were turned into, e.g. "points" of a reference cloud or
+/// "objects[0].contact_points") is about the data too: it is named by
+/// `dataset`, with the library's argument kept after it as a detail
+/// ("FILE: objects[0].contact_points: non-finite value ..."). The options
+/// that could also be at fault (the scales) are bounded up front.
+/// Other exceptions pass through.
 template <typename F>
 auto naming_inputs(const std::string& dataset, F&& f) -> decltype(f()) {
   try {
     return f();
   } catch (const InvalidArgument& e) {
+    if (e.argument() == dataset) throw;  // named already (nested calls)
     if (e.argument() == "table" || e.argument() == "dataset") throw InvalidArgument(dataset, e.reason());
     if (e.argument() == "settings.k") throw InvalidArgument("--k", e.reason() + " of the training touches from " + dataset);
-    throw;
+    throw InvalidArgument(dataset, e.what());
   }
 }
 
-/// The touches of `dataset` described by the chosen descriptor.
+/// The touches of `dataset` described by the chosen descriptor. Throws
+/// InvalidArgument naming "dataset" (naming_inputs turns it into the file)
+/// for an implausible taxel pitch (taxel_pitch_of).
 TouchTable make_touch_table(const Dataset& dataset, const RecognitionOptions& options,
                             const ProgressCallback& progress = {});
 

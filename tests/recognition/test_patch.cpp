@@ -66,6 +66,36 @@ TEST_CASE("contact points: pressed taxels placed by the pad pose and pitch") {
   CHECK(taxel_pitch_of(Dataset{}) == 0.0034);
 }
 
+TEST_CASE("taxel pitch: a pitch_m= that is not a plausible pitch is refused, quoting the comment") {
+  Dataset ds;
+  ds.rows = 14;
+  ds.cols = 6;
+  Frame f = frame("a", 0, Eigen::Vector3d(0.0, 0.0, 0.01), 0.0);
+  f.pressures(3, 3) = 100;
+  ds.frames = {f};
+  for (const std::string value : {"1e308", "0", "-0.003", "1.5", "abc", "inf", "nan"}) {
+    CAPTURE(value);
+    ds.comments = {"sensor: x pitch_m=" + value};
+    // Before, 0, "abc", inf and nan fell back to 3.4 mm silently and 1e308
+    // placed the contact points at infinity.
+    try {
+      (void)taxel_pitch_of(ds);
+      FAIL("accepted");
+    } catch (const InvalidArgument& e) {
+      CHECK(e.argument() == "dataset");
+      CHECK(e.reason().find("'sensor: x pitch_m=" + value + "'") != std::string::npos);
+    }
+    CHECK_THROWS_AS(make_touch_table(ds, RawPressures<float>{}, 20.0), InvalidArgument);
+    // A dataset without orientations places no contact point: the pitch is
+    // not read.
+    Dataset plain = ds;
+    plain.frames[0].orientation.reset();
+    CHECK(make_touch_table(plain, RawPressures<float>{}, 20.0).size() == 1);
+  }
+  ds.comments = {"sensor: x pitch_m=1"};  // the largest pitch allowed
+  CHECK(taxel_pitch_of(ds) == 1.0);
+}
+
 TEST_CASE("contact embedding: test subsampling and reference voxels") {
   TouchSet s;
   s.positions = Eigen::Matrix3Xd::Zero(3, 2);

@@ -84,17 +84,30 @@ struct TouchTable {
   }
 };
 
+/// The largest taxel pitch a dataset comment may give, metres: 1 m, some
+/// hundred times a real pad's (the WTS 0614-34A's is 3.4 mm).
+constexpr double kLargestTaxelPitch = 1.0;
+
 /// The taxel pitch of a dataset, metres: the `pitch_m=` value of a comment
 /// such as "sensor: WTS 0614-34A rows=14 cols=6 pitch_m=0.0034" (what the
 /// recorder and the simulator write), otherwise `fallback` (the WTS 0614-34A's
-/// 3.4 mm).
+/// 3.4 mm). Throws InvalidArgument naming "dataset" and quoting the comment
+/// when its `pitch_m=` is not a number or is outside (0, kLargestTaxelPitch]:
+/// a pitch of 1e308 m placed contact points at infinity, and a pitch of 0 or
+/// "abc" was silently replaced by the fallback.
 inline double taxel_pitch_of(const Dataset& dataset, double fallback = 0.0034) {
   for (const auto& c : dataset.comments) {
     const auto at = c.find("pitch_m=");
     if (at == std::string::npos) continue;
+    const char* begin = c.c_str() + at + 8;
     char* end = nullptr;
-    const double v = std::strtod(c.c_str() + at + 8, &end);
-    if (end != c.c_str() + at + 8 && std::isfinite(v) && v > 0) return v;
+    const double v = std::strtod(begin, &end);
+    if (end != begin && std::isfinite(v) && v > 0 && v <= kLargestTaxelPitch) return v;
+    throw InvalidArgument("dataset", "the pitch_m= of comment " + quote_text(c, 120) +
+                                         (end == begin ? std::string(" is not a number")
+                                                       : " gives a taxel pitch of " + format_value(v) + " m, outside (0, " +
+                                                             format_value(kLargestTaxelPitch) +
+                                                             "] m (a pad's taxels are millimetres apart)"));
   }
   return fallback;
 }
@@ -126,7 +139,8 @@ inline Index append_contact_points(const Frame& frame, double threshold, double 
 /// for frames with an orientation, also their contact points
 /// (`append_contact_points`, pitch from `taxel_pitch_of`); when every
 /// contact frame has an orientation, the pad normals (`TouchSet::normals`).
-/// Throws EmptyInput naming "dataset" when no frame is a contact.
+/// Throws EmptyInput naming "dataset" when no frame is a contact, and what
+/// taxel_pitch_of throws when a contact frame has an orientation.
 /// `progress` gets (frames done, frames).
 template <typename Descriptor>
 TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor,
@@ -148,11 +162,15 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
   if (kept.empty())
     throw EmptyInput("dataset", "has no contact frame (no taxel above " + format_value(contact_threshold) + ")");
   const auto n = static_cast<Index>(kept.size());
-  const double pitch = taxel_pitch_of(dataset);
   std::vector<Eigen::Vector3d> contacts;
   std::vector<Index> offsets{0};
-  bool oriented = true;
-  for (const std::size_t i : kept) oriented = oriented && dataset.frames[i].orientation.has_value();
+  bool oriented = true, any_oriented = false;
+  for (const std::size_t i : kept) {
+    oriented = oriented && dataset.frames[i].orientation.has_value();
+    any_oriented = any_oriented || dataset.frames[i].orientation.has_value();
+  }
+  // Only the contact points of oriented frames use the pitch.
+  const double pitch = any_oriented ? taxel_pitch_of(dataset) : 0.0034;
   t.touches.positions.resize(3, n);
   if (oriented) t.touches.normals.resize(3, n);
   t.object.resize(kept.size());
