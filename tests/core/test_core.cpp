@@ -217,3 +217,30 @@ TEST_CASE("parallel_for visits every item once; ProgressCounter reports them one
       CHECK(message == "item 13");
     }
 }
+
+TEST_CASE("Rng::uniform(a, b) stays in [a, b), for an interval of one ulp and one wider than double's range") {
+  Rng rng(3);
+  const double a = 1, b = std::nextafter(1.0, 2.0);
+  int at_b = 0;  // a + (b - a) u rounded to b for about half of the draws
+  for (int i = 0; i < 10000; ++i) {
+    const double u = rng.uniform(a, b);
+    at_b += !(u >= a && u < b);
+  }
+  CHECK(at_b == 0);
+  int outside = 0;  // b - a overflowed: inf
+  for (int i = 0; i < 1000; ++i) {
+    const double u = rng.uniform(-1e308, 1e308);
+    outside += !(u >= -1e308 && u < 1e308);
+  }
+  CHECK(outside == 0);
+  CHECK(rng.uniform(2.0, 2.0) == 2.0);
+  // An ordinary interval draws as before: a + (b - a) u.
+  Rng x(11), y(11);
+  for (int i = 0; i < 100; ++i) CHECK(x.uniform(-0.3, 0.7) == -0.3 + (0.7 - -0.3) * y.uniform());
+}
+
+TEST_CASE("format_exact: the shortest text that reads back to the value in its type") {
+  CHECK(format_exact(std::nextafter(1.0f, 2.0f)) == "1.0000001");
+  CHECK(format_exact(-0.0) == "-0");
+  CHECK(format_exact(0.1) == "0.1");
+}

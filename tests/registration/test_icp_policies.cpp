@@ -105,6 +105,24 @@ TEST_CASE("NaN or Inf anywhere, empty clouds and mismatched dimensions are typed
   init = RigidTransform<double, 3>::identity();
   init.t(2) = kInf;
   CHECK(argument_of([&] { (void)icp.align(ref, model, init); }) == "initial.t");
+  // A finite initial transform that moves the (in-range) test beyond what
+  // the scalar type can square is at fault, not the test ("test" was
+  // named, with either search).
+  for (const double t : {1e300, -1e200}) {
+    init = RigidTransform<double, 3>::identity();
+    init.t(1) = t;
+    CHECK(argument_of([&] { (void)icp.align(ref, model, init); }) == "initial");
+  }
+  init = RigidTransform<double, 3>::identity();
+  init.R *= 1e200;
+  CHECK(argument_of([&] { (void)icp.align(ref, model, init); }) == "initial");
+  RigidTransform<float, 3> finit = RigidTransform<float, 3>::identity();
+  finit.t(0) = 1e20f;
+  CHECK(argument_of([&] { (void)Icp<float, 3>().align(fref, model.cast<float>(), finit); }) == "initial");
+  CHECK(argument_of([&] { (void)Icp<float, 3>().align(ftree, model.cast<float>(), finit); }) == "initial");
+  // A test out of range by itself is still the test's fault.
+  finit.t(0) = 0.5f;
+  CHECK(argument_of([&] { (void)Icp<float, 3>().align(fref, far, finit); }) == "test");
   const RigidTransform<double, Eigen::Dynamic> wrong = RigidTransform<double, Eigen::Dynamic>::identity(4);
   CHECK(argument_of([&] { (void)Icp<double, Eigen::Dynamic>().align(dref, model, wrong); }) == "initial.R rows");
 
@@ -136,6 +154,17 @@ TEST_CASE("invalid settings are errors naming the setting") {
   icp = {};
   icp.rejection.max_distance = 0;
   CHECK(argument_of([&] { (void)icp.align(ref, model); }) == "rejection.max_distance");
+  // The value is shown exactly: a fraction just above 1 printed as
+  // "1.000000", a negative zero as "-0.000000".
+  Icp<float, 3> ficp;
+  ficp.rejection.trim_fraction = std::nextafter(1.0f, 2.0f);
+  CHECK_THROWS_WITH(ficp.rejection.validate(), doctest::Contains("(got 1.0000001)"));
+  ficp = {};
+  ficp.rejection.max_distance = -0.0f;
+  CHECK_THROWS_WITH(ficp.rejection.validate(), doctest::Contains("(got -0)"));
+  ficp = {};
+  ficp.termination.relative_tolerance = -1e-30f;
+  CHECK_THROWS_WITH(ficp.termination.validate(), doctest::Contains("(got -1e-30)"));
 }
 
 TEST_CASE("the reported error is E at the returned transform, recomputed by brute force") {
@@ -286,6 +315,30 @@ TEST_CASE("termination: the paper's three rules") {
   const auto a = absolute.align(ref, test);
   CHECK(a.stop_reason == StopReason::AbsoluteTolerance);
   CHECK(a.error <= 1.0);
+}
+
+TEST_CASE("the iterations reuse the workspace's buffers from the first step on") {
+  // Both pair buffers are sized when a registration starts: the steps only
+  // swap them (the first step used to size the second one).
+  const Eigen::Matrix3Xd model = random_points(3, 60, 41);
+  const ReferenceCloud<double, 3> ref(model);
+  const Icp<double, 3> icp;
+  Icp<double, 3>::Workspace ws;
+  const Eigen::Matrix3Xd test = (Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()) * model).colwise() +
+                                Eigen::Vector3d(0.01, 0.0, 0.0);
+  auto reg = icp.start(ref, test, nullptr, ws);
+  const auto* a = ws.pairs.data();
+  const auto* b = ws.previous_pairs.data();
+  REQUIRE(a != nullptr);
+  REQUIRE(b != nullptr);
+  int steps = 0;
+  while (steps < 5 && reg.step()) {
+    ++steps;
+    const bool same = (ws.pairs.data() == a && ws.previous_pairs.data() == b) ||
+                      (ws.pairs.data() == b && ws.previous_pairs.data() == a);
+    CHECK(same);
+  }
+  CHECK(steps > 0);
 }
 
 TEST_CASE("initial transform and centroid alignment") {

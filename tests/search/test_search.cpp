@@ -298,3 +298,20 @@ TEST_CASE_TEMPLATE("adaptive search: brute force on small clouds, a kd-tree on l
   small_zero_leaf.leaf_max_size = 0;
   CHECK_THROWS_AS(Search3(Cloud<T, 3>::Zero(3, 4), small_zero_leaf), InvalidArgument);
 }
+
+TEST_CASE("a hint whose squared distance overflows is no neighbour, as without the hint") {
+  // Every squared distance overflows float: no neighbour, hinted or not
+  // (the hint was returned with distance inf, and ICP went on with E = inf).
+  Cloud<float, 3> p(3, 2);
+  p.col(0) << 1e30f, 0, 0;
+  p.col(1) << 2e30f, 0, 0;
+  const KdTreeSearch<float, 3> tree(p);
+  const BruteForceSearch<float, 3> brute(p);
+  const float q[3] = {-1e30f, 0, 0};
+  CHECK(brute.nearest(q).index == -1);
+  CHECK(tree.nearest(q).index == -1);
+  for (const Index hint : {Index(0), Index(1)}) {
+    const auto got = tree.nearest(q, hint);
+    CHECK(got.index == -1);
+  }
+}

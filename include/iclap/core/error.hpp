@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <charconv>
 #include <cstddef>
 #include <cstdio>
 #include <stdexcept>
@@ -123,6 +124,17 @@ inline std::string format_value(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", v);
   return buf;
+}
+
+/// A number for a message about a setting that must lie in a range: the
+/// shortest text that reads back to exactly `v` in its own type (float or
+/// double; std::to_chars), so a value just outside the range never looks
+/// like one inside it (1.0000001f, not format_value's "1").
+template <typename T>
+std::string format_exact(T v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
 }
 
 /// Is `b` a control byte (below 0x20, or 0x7f)?

@@ -59,8 +59,17 @@ class Rng {
   /// Uniform in [0, 1) with 53 random bits.
   double uniform() noexcept { return static_cast<double>((*this)() >> 11) * 0x1.0p-53; }
 
-  /// Uniform in [a, b).
-  double uniform(double a, double b) noexcept { return a + (b - a) * uniform(); }
+  /// Uniform in [a, b) for a < b (a itself when a == b). Where the rounding
+  /// of a + (b - a) u reaches b (an interval a few ulps wide) the largest
+  /// double below b is returned instead; where b - a overflows (a and b near
+  /// the ends of the double range) the draw is a (1 - u) + b u, which stays
+  /// finite.
+  double uniform(double a, double b) noexcept {
+    const double u = uniform();
+    const double width = b - a;
+    const double r = std::isfinite(width) ? a + width * u : a * (1 - u) + b * u;
+    return r < b || !(a < b) ? r : std::nextafter(b, a);
+  }
 
   /// Uniform integer in [0, n), without modulo bias; n must be > 0.
   std::uint64_t below(std::uint64_t n) noexcept {

@@ -236,7 +236,7 @@ class Icp {
     const AccPoint w = reference.weights().template cast<Acc>();
     ws.test_points.resize(d, n);
     const bool rotate0 = initial && !initial->R.isIdentity(Scalar(0));
-    AccMatrix R0;
+    AccMatrix R0 = AccMatrix::Zero(d, d);  // (set when rotate0; zeroed so that GCC 12 sees it initialised)
     AccPoint o = AccPoint::Zero(d);
     if (initial) {
       R0 = initial->R.template cast<Acc>();
@@ -253,7 +253,29 @@ class Icp {
         ws.test_points.col(j) = w.cwiseProduct(tmp + o).template cast<Scalar>();
       }
     }
+    if (initial) check_initial_range(test, c, w, ws.test_points);
     return Model::block_size(d);
+  }
+
+  /// An `initial` that moves a test point beyond the range the scalar type
+  /// can square (largest_coordinate) is refused naming "initial", where the
+  /// test point itself is in range: the search would find no finite
+  /// distance for it, and the error would blame "test".
+  template <typename Derived>
+  static void check_initial_range(const Eigen::MatrixBase<Derived>& test, const AccPoint& c, const AccPoint& w,
+                                  const Cloud<Scalar, Dim>& moved) {
+    const Acc limit = static_cast<Acc>(largest_coordinate<Scalar>());
+    for (Index j = 0; j < moved.cols(); ++j) {
+      const Acc reach = moved.col(j).template cast<Acc>().cwiseAbs().maxCoeff();
+      if (reach <= limit) continue;  // false for NaN and inf
+      const Acc own = w.cwiseProduct(test.col(j).template cast<Acc>() - c).cwiseAbs().maxCoeff();
+      if (!(own <= limit)) continue;  // the test point is out of range by itself
+      throw InvalidArgument("initial", "moves test point " + std::to_string(j) + " to a weighted coordinate of " +
+                                           format_value(static_cast<double>(reach)) + " from the reference centroid, " +
+                                           "beyond what the registration's scalar type can square (|v| <= " +
+                                           format_value(static_cast<double>(limit)) +
+                                           "); check the unit of its translation and rotation");
+    }
   }
 
   /// Matches every working test point under (R, t) and applies the rejector.
@@ -337,9 +359,9 @@ class Icp {
     const Scalar tolerance =
         Scalar(64) * std::numeric_limits<Scalar>::epsilon() * std::max(actual, nb.squared_distance);
     if (!std::isfinite(nb.squared_distance) || !(std::abs(actual - nb.squared_distance) <= tolerance))
-      throw InvalidArgument("first_matches", where() + "gives squared distance " + std::to_string(nb.squared_distance) +
+      throw InvalidArgument("first_matches", where() + "gives squared distance " + format_value(static_cast<double>(nb.squared_distance)) +
                                                  " to reference point " + std::to_string(nb.index) + ", which is at " +
-                                                 std::to_string(actual) +
+                                                 format_value(static_cast<double>(actual)) +
                                                  " (matches of another reference, test point or initial transform)");
   }
 
@@ -394,6 +416,8 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
     const Index d = reference.dim(), n = test.cols();
     if (initial) initial_ = *initial;
     ws.pairs.resize(static_cast<std::size_t>(n));
+    // Sized now, so that no iteration allocates (the first step swaps it in).
+    ws.previous_pairs.resize(static_cast<std::size_t>(n));
     ws.hints.assign(static_cast<std::size_t>(n), Index(-1));
 
     // Block motion in working coordinates.

@@ -29,9 +29,9 @@ struct DistanceRejector {
   Scalar trim_fraction = 1;
 
   void validate() const {
-    if (!(max_distance > 0)) throw InvalidArgument("rejection.max_distance", "must be > 0 (got " + std::to_string(max_distance) + ")");
+    if (!(max_distance > 0)) throw InvalidArgument("rejection.max_distance", "must be > 0 (got " + format_exact(max_distance) + ")");
     if (!(trim_fraction > 0 && trim_fraction <= 1))
-      throw InvalidArgument("rejection.trim_fraction", "must be in (0, 1] (got " + std::to_string(trim_fraction) + ")");
+      throw InvalidArgument("rejection.trim_fraction", "must be in (0, 1] (got " + format_exact(trim_fraction) + ")");
   }
 
   /// How many of `n` pairs (n >= 1) the trimming keeps: ceil(trim_fraction n),

@@ -56,7 +56,7 @@ struct PaperTermination {
     if (std::isnan(absolute_tolerance))
       throw InvalidArgument("termination.absolute_tolerance", "must not be NaN");
     if (!(relative_tolerance >= 0) || !std::isfinite(relative_tolerance))
-      throw InvalidArgument("termination.relative_tolerance", "must be finite and >= 0 (got " + std::to_string(relative_tolerance) + ")");
+      throw InvalidArgument("termination.relative_tolerance", "must be finite and >= 0 (got " + format_exact(relative_tolerance) + ")");
   }
 
   std::optional<StopReason> check(int iterations, Scalar error, Scalar previous_error) const {

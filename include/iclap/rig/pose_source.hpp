@@ -65,11 +65,7 @@ class FixedPoseSource final : public PoseSource {
   std::optional<Pose> next() override { return pose_; }
   bool has_orientation() const override { return pose_.orientation.has_value(); }
   std::string description() const override {
-    auto num = [](double v) {  // shortest text that reads back to v
-      char buf[32];
-      const auto r = std::to_chars(buf, buf + sizeof buf, v);
-      return std::string(buf, r.ptr);
-    };
+    const auto num = [](double v) { return format_exact(v); };
     std::string d = "fixed " + num(pose_.position.x()) + "," + num(pose_.position.y()) + "," + num(pose_.position.z());
     if (pose_.orientation) {
       const auto& q = *pose_.orientation;

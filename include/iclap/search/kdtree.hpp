@@ -148,9 +148,12 @@ class KdTreeSearch
     Neighbor<Scalar> result;
     if (!block_) return result;
     detail::NearestTieAwareResultSet<Scalar> set;
-    if (hint >= 0 && hint < block_->points.cols())
-      set.addPoint(detail::squared_distance<Dim>(query, block_->points.col(hint).data(), block_->points.rows()),
-                   static_cast<std::uint32_t>(hint));
+    if (hint >= 0 && hint < block_->points.cols()) {
+      // A hint whose squared distance overflows is no neighbour (the
+      // unhinted search reports none when every distance overflows).
+      const Scalar d = detail::squared_distance<Dim>(query, block_->points.col(hint).data(), block_->points.rows());
+      if (d < std::numeric_limits<Scalar>::infinity()) set.addPoint(d, static_cast<std::uint32_t>(hint));
+    }
     block_->tree.findNeighbors(set, query, nanoflann::SearchParams());
     if (set.full()) {
       result.index = static_cast<Index>(set.index);
