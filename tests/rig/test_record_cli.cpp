@@ -41,6 +41,14 @@ std::vector<std::string> record_args(const std::string& port, const std::string&
   return {"record", "--port", port, "--object", "mug", "--exploration", "2", "--out", out};
 }
 
+// `iclap record` from `fake` into `out`, started in the background (for a
+// Ctrl-C); its output goes to `stem`.stdout and `stem`.stderr of `scratch`.
+pid_t spawn_record(const PtyFakeSensor& fake, const std::string& out, const Scratch& scratch, const std::string& stem) {
+  std::vector<std::string> argv{ICLAP_CLI_PATH};
+  for (auto& a : record_args(fake.path(), out)) argv.push_back(a);
+  return test::spawn_process(argv, scratch(stem + ".stdout"), scratch(stem + ".stderr"));
+}
+
 // Sequence numbers of the recorded rows, after checking every row against
 // the frame the fake sent under that number.
 std::vector<std::size_t> recorded_seqs(const iclap::Dataset& d, std::uint64_t seed) {
@@ -168,11 +176,7 @@ TEST_CASE("iclap record: Ctrl-C stops the sensor and keeps complete rows") {
   script.seed = 3;
   PtyFakeSensor fake(script);
   const std::string out = scratch("sigint.csv");
-  const pid_t pid = test::spawn_process([&] {
-    std::vector<std::string> argv{ICLAP_CLI_PATH};
-    for (auto& a : record_args(fake.path(), out)) argv.push_back(a);
-    return argv;
-  }(), scratch("sigint.stdout"), scratch("sigint.stderr"));
+  const pid_t pid = spawn_record(fake, out, scratch, "sigint");
   REQUIRE(fake.wait_for([&] { return fake.intact().size() >= 10; }));
   ::kill(pid, SIGINT);
   const int status = test::wait_process(pid);
@@ -368,11 +372,7 @@ TEST_CASE("iclap record: a run that records no frame leaves no file behind and e
     script.max_frames = 0;
     PtyFakeSensor fake(script);
     const std::string out = scratch("sigint.csv");
-    const pid_t pid = test::spawn_process([&] {
-      std::vector<std::string> argv{ICLAP_CLI_PATH};
-      for (auto& a : record_args(fake.path(), out)) argv.push_back(a);
-      return argv;
-    }(), scratch("sigint.stdout"), scratch("sigint.stderr"));
+    const pid_t pid = spawn_record(fake, out, scratch, "sigint");
     REQUIRE(fake.wait_for([&] { return fake.streaming(); }));
     ::kill(pid, SIGINT);
     const int status = test::wait_process(pid);
