@@ -324,8 +324,8 @@ TEST_CASE("the iterations reuse the workspace's buffers from the first step on")
   const ReferenceCloud<double, 3> ref(model);
   const Icp<double, 3> icp;
   Icp<double, 3>::Workspace ws;
-  const Eigen::Matrix3Xd test = (Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()) * model).colwise() +
-                                Eigen::Vector3d(0.01, 0.0, 0.0);
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3Xd test = (turn * model).colwise() + Eigen::Vector3d(0.01, 0.0, 0.0);
   auto reg = icp.start(ref, test, nullptr, ws);
   const auto* a = ws.pairs.data();
   const auto* b = ws.previous_pairs.data();
