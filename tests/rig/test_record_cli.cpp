@@ -300,24 +300,23 @@ TEST_CASE("iclap record: a run that records no frame leaves no file behind and e
   {  // A grid the frames do not fit: exit 1 and no header-only file, so the
      // advised retry with the right grid records.
     const std::string out = scratch("grid.csv");
-    {
+    // Five frames into `out` from a sensor that sends no matrix info.
+    const auto record_with_grid = [&](const char* grid) {
       FakeSensorScript script;
       script.answer_matrix_info = false;
       PtyFakeSensor fake(script);
       auto args = record_args(fake.path(), out);
-      args.insert(args.end(), {"--grid", "10x6", "--frames", "5"});
-      const auto r = run_iclap(args, scratch);
+      args.insert(args.end(), {"--grid", grid, "--frames", "5"});
+      return run_iclap(args, scratch);
+    };
+    {
+      const auto r = record_with_grid("10x6");
       INFO(r.err);
       CHECK(r.status == 1);
       CHECK(r.err.find("frames of 84 taxels but the grid 10x6 has 60; pass --grid ROWSxCOLS") != std::string::npos);
       CHECK_FALSE(fs::exists(out));
     }
-    FakeSensorScript script;
-    script.answer_matrix_info = false;
-    PtyFakeSensor fake(script);
-    auto args = record_args(fake.path(), out);
-    args.insert(args.end(), {"--grid", "14x6", "--frames", "5"});
-    const auto r = run_iclap(args, scratch);
+    const auto r = record_with_grid("14x6");
     INFO(r.err);
     CHECK(r.status == 0);
     CHECK(r.err.find("appending") == std::string::npos);
