@@ -264,6 +264,42 @@ TEST_CASE("rejection: maximum distance and trimming remove outliers") {
   for (Index k = 0; k < 7; ++k) CHECK(pairs[static_cast<std::size_t>(k)].squared_distance <= 7.0);
 }
 
+TEST_CASE("trimming keeps the count the decimal fraction means, in float as in double") {
+  // 0.3f is 0.30000001: 0.3f * 10 used to keep 4 pairs where double keeps 3.
+  DistanceRejector<float> rf;
+  rf.trim_fraction = 0.3f;
+  CHECK(rf.trimmed_count(10) == 3);
+  CHECK(rf.trimmed_count(160) == 48);
+  std::vector<Correspondence<float>> fpairs(10);
+  for (Index i = 0; i < 10; ++i) fpairs[static_cast<std::size_t>(i)] = {i, 0, static_cast<float>(10 - i)};
+  CHECK(rf.select(fpairs.data(), 10) == 3);
+
+  // Every percentage against exact integer arithmetic, ceil(d n / 100), at
+  // least 1, for both scalars; a product just above an integer still
+  // rounds up (0.31 * 100 = 31 but 0.31 * 101 = 31.31 keeps 32).
+  DistanceRejector<double> rd;
+  Index mismatches = 0;
+  for (int d = 1; d < 100; ++d) {
+    rf.trim_fraction = static_cast<float>(d) / 100.0f;
+    rd.trim_fraction = static_cast<double>(d) / 100.0;
+    for (Index n = 1; n <= 5000; ++n) {
+      const Index want = std::max<Index>(1, (static_cast<Index>(d) * n + 99) / 100);
+      if (rf.trimmed_count(n) != want || rd.trimmed_count(n) != want) {
+        if (++mismatches <= 5) {
+          CAPTURE(d);
+          CAPTURE(n);
+          CHECK(rf.trimmed_count(n) == want);
+          CHECK(rd.trimmed_count(n) == want);
+        }
+      }
+    }
+  }
+  CHECK(mismatches == 0);
+  rf.trim_fraction = 0.31f;
+  CHECK(rf.trimmed_count(101) == 32);
+  CHECK(rf.trimmed_count(100) == 31);
+}
+
 TEST_CASE("no correspondence left is a normal outcome, not an error") {
   const Eigen::MatrixXd model = random_points(3, 50, 51);
   const Eigen::MatrixXd far = model.array() + 100.0;

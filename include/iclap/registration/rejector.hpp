@@ -35,11 +35,19 @@ struct DistanceRejector {
   }
 
   /// How many of `n` pairs (n >= 1) the trimming keeps: ceil(trim_fraction n),
-  /// at least 1.
+  /// at least 1, where a product within the scalar's rounding of an integer
+  /// counts as that integer.
   Index trimmed_count(Index n) const {
     if (!(trim_fraction < 1)) return n;
-    // The 1 - 1e-12 guards against products such as 0.7 * 10 = 7.0000000000000009.
-    const double want = std::ceil(static_cast<double>(trim_fraction) * static_cast<double>(n) * (1.0 - 1e-12));
+    // The stored fraction is the decimal the user wrote, rounded to Scalar:
+    // 0.3f is 0.30000001, so 0.3f * 10 = 3.0000001 would keep 4 of 10 pairs
+    // where the double 0.3 keeps 3. The product is exact in double (24 or 53
+    // mantissa bits times n < 2^29); shrinking it by two of the scalar's
+    // epsilons (at least 1e-12, which also absorbs double products such as
+    // 0.7 * 10 = 7.0000000000000009) takes off that rounding and nothing a
+    // fraction of this precision can mean.
+    constexpr double guard = std::max(1e-12, 2.0 * static_cast<double>(std::numeric_limits<Scalar>::epsilon()));
+    const double want = std::ceil(static_cast<double>(trim_fraction) * static_cast<double>(n) * (1.0 - guard));
     return std::clamp<Index>(static_cast<Index>(want), 1, n);
   }
 
