@@ -92,6 +92,29 @@ TEST_CASE("checks name the argument and the location") {
   CHECK(std::string(pe.what()) == "data.csv:12: negative pressure");
 }
 
+TEST_CASE("find_beyond_range: the first coefficient, column by column, beyond the scalar's range, weights applied") {
+  const double fl = largest_coordinate<float>();
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(3, 4);
+  m(1, 2) = fl;  // at the limit: in range
+  CHECK(find_beyond_range<float>(m) == std::make_pair(Eigen::Index{-1}, Eigen::Index{-1}));
+  m(2, 3) = 2 * fl;
+  m(0, 3) = -2 * fl;
+  CHECK(find_beyond_range<float>(m) == std::make_pair(Eigen::Index{0}, Eigen::Index{3}));
+  CHECK(find_beyond_range<double>(m).first == -1);  // far inside double's range
+  // A weight moves a coordinate out of range (row 1 of column 2) or into it.
+  const double w[3] = {0.25, 2.0, 0.25};
+  CHECK(find_beyond_range<float>(m, w) == std::make_pair(Eigen::Index{1}, Eigen::Index{2}));
+  const double small[3] = {0.25, 0.25, 0.25};
+  CHECK(find_beyond_range<float>(m, small).first == -1);
+  m(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  CHECK(find_beyond_range<float>(m, small) == std::make_pair(Eigen::Index{0}, Eigen::Index{0}));
+  // check_coordinate_range reports the same coefficient.
+  CHECK_THROWS_WITH_AS(check_coordinate_range<double>(Eigen::MatrixXd::Constant(2, 2, 1e200), "cloud"),
+                       "cloud: value 1e+200 at row 0, column 0 is beyond the double range of distances "
+                       "(|v| <= 1.34078e+150): squared distances would overflow; rescale",
+                       InvalidArgument);
+}
+
 TEST_CASE("quote_text: control bytes escaped, long text cut outside UTF-8 sequences; format_value") {
   using namespace std::string_literals;
   CHECK(quote_text("pliers_1") == "'pliers_1'");

@@ -5,6 +5,7 @@
 #include <limits>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 #include <Eigen/Core>
 
@@ -54,22 +55,36 @@ double smallest_spread() {
          static_cast<double>(std::numeric_limits<Scalar>::epsilon());
 }
 
+/// The first coefficient of `m`, in column-major order, whose magnitude
+/// times its row's weight (`row_weights`: one per row; null: every weight
+/// 1) is beyond largest_coordinate<Scalar>() (NaN included), as {row,
+/// column}; {-1, -1} when all are in range. For callers that name the
+/// offending point their own way (a file's line); check_coordinate_range
+/// throws for the rest.
+template <typename Scalar, typename Derived>
+std::pair<Eigen::Index, Eigen::Index> find_beyond_range(const Eigen::DenseBase<Derived>& m,
+                                                        const double* row_weights = nullptr) {
+  const double limit = largest_coordinate<Scalar>();
+  for (Eigen::Index c = 0; c < m.cols(); ++c)
+    for (Eigen::Index r = 0; r < m.rows(); ++r) {
+      const double w = row_weights ? row_weights[r] : 1.0;
+      if (!(std::abs(w * static_cast<double>(m(r, c))) <= limit)) return {r, c};
+    }
+  return {-1, -1};
+}
+
 /// Throws InvalidArgument naming `argument`, the value, its row and its
 /// column when a coefficient of `m` is beyond largest_coordinate<Scalar>()
 /// (NaN included): its squared distances would overflow.
 template <typename Scalar, typename Derived>
 void check_coordinate_range(const Eigen::DenseBase<Derived>& m, const std::string& argument) {
-  const double limit = largest_coordinate<Scalar>();
-  for (Eigen::Index c = 0; c < m.cols(); ++c)
-    for (Eigen::Index r = 0; r < m.rows(); ++r) {
-      const auto v = static_cast<double>(m(r, c));
-      if (!(std::abs(v) <= limit))
-        throw InvalidArgument(argument, "value " + format_value(v) + " at row " + std::to_string(r) + ", column " +
-                                            std::to_string(c) + " is beyond the " +
-                                            (std::is_same_v<Scalar, float> ? "float" : "double") +
-                                            " range of distances (|v| <= " + format_value(limit) +
-                                            "): squared distances would overflow; rescale");
-    }
+  const auto [r, c] = find_beyond_range<Scalar>(m);
+  if (r < 0) return;
+  throw InvalidArgument(argument, "value " + format_value(static_cast<double>(m(r, c))) + " at row " +
+                                      std::to_string(r) + ", column " + std::to_string(c) + " is beyond the " +
+                                      (std::is_same_v<Scalar, float> ? "float" : "double") +
+                                      " range of distances (|v| <= " + format_value(largest_coordinate<Scalar>()) +
+                                      "): squared distances would overflow; rescale");
 }
 
 /// Throws InvalidArgument naming `argument` unless `v` is finite and > 0.

@@ -243,39 +243,38 @@ class Icp {
       o = initial->t.template cast<Acc>();
       if (rotate0) o += R0 * c - c;
     }
-    AccPoint tmp(d), rotated(d);
+    const Acc limit = static_cast<Acc>(largest_coordinate<Scalar>());
+    AccPoint tmp(d), moved(d);
     for (Index j = 0; j < n; ++j) {
       tmp = test.col(j).template cast<Acc>() - c;
       if (rotate0) {
-        rotated.noalias() = R0 * tmp;
-        ws.test_points.col(j) = w.cwiseProduct(rotated + o).template cast<Scalar>();
+        moved.noalias() = R0 * tmp;
+        moved = w.cwiseProduct(moved + o);
       } else {
-        ws.test_points.col(j) = w.cwiseProduct(tmp + o).template cast<Scalar>();
+        moved = w.cwiseProduct(tmp + o);
       }
+      if (initial) check_initial_range(j, tmp, w, moved, limit);
+      ws.test_points.col(j) = moved.template cast<Scalar>();
     }
-    if (initial) check_initial_range(test, c, w, ws.test_points);
     return Model::block_size(d);
   }
 
-  /// An `initial` that moves a test point beyond the range the scalar type
-  /// can square (largest_coordinate) is refused naming "initial", where the
-  /// test point itself is in range: the search would find no finite
-  /// distance for it, and the error would blame "test".
-  template <typename Derived>
-  static void check_initial_range(const Eigen::MatrixBase<Derived>& test, const AccPoint& c, const AccPoint& w,
-                                  const Cloud<Scalar, Dim>& moved) {
-    const Acc limit = static_cast<Acc>(largest_coordinate<Scalar>());
-    for (Index j = 0; j < moved.cols(); ++j) {
-      const Acc reach = moved.col(j).template cast<Acc>().cwiseAbs().maxCoeff();
-      if (reach <= limit) continue;  // false for NaN and inf
-      const Acc own = w.cwiseProduct(test.col(j).template cast<Acc>() - c).cwiseAbs().maxCoeff();
-      if (!(own <= limit)) continue;  // the test point is out of range by itself
-      throw InvalidArgument("initial", "moves test point " + std::to_string(j) + " to a weighted coordinate of " +
-                                           format_value(static_cast<double>(reach)) + " from the reference centroid, " +
-                                           "beyond what the registration's scalar type can square (|v| <= " +
-                                           format_value(static_cast<double>(limit)) +
-                                           "); check the unit of its translation and rotation");
-    }
+  /// An `initial` that moves test point `j` (about the reference centroid:
+  /// `own` before the motion and unweighted, `moved` after it and weighted
+  /// by `w`) beyond the range the scalar type can square
+  /// (largest_coordinate) is refused naming "initial", where the test point
+  /// itself is in range: the search would find no finite distance for it,
+  /// and the error would blame "test". Checked as each point is written, so
+  /// the test is read once.
+  static void check_initial_range(Index j, const AccPoint& own, const AccPoint& w, const AccPoint& moved, Acc limit) {
+    const Acc reach = moved.cwiseAbs().maxCoeff();
+    if (reach <= limit) return;  // false for NaN and inf
+    if (!(w.cwiseProduct(own).cwiseAbs().maxCoeff() <= limit)) return;  // out of range by itself
+    throw InvalidArgument("initial", "moves test point " + std::to_string(j) + " to a weighted coordinate of " +
+                                         format_value(static_cast<double>(reach)) + " from the reference centroid, " +
+                                         "beyond what the registration's scalar type can square (|v| <= " +
+                                         format_value(static_cast<double>(limit)) +
+                                         "); check the unit of its translation and rotation");
   }
 
   /// Matches every working test point under (R, t) and applies the rejector.
