@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <atomic>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -12,6 +14,15 @@
 #include "iclap/recognition/touch_set.hpp"
 
 namespace iclap {
+
+namespace detail {
+/// A new identity for every fit of every classifier, so that a prepared pool
+/// is recognised as stale after a refit.
+inline std::uint64_t next_fit_id() {
+  static std::atomic<std::uint64_t> next{0};
+  return ++next;
+}
+}  // namespace detail
 
 /// What a classifier computed once for a pool of touches that many tests are
 /// drawn from (`Classifier::prepare_pool`). Opaque; only the classifier that

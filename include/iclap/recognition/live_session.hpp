@@ -56,21 +56,23 @@ namespace iclap {
 /// Phantom Omni's gimbal), `normal` is the pad's z axis in the world (unit;
 /// the height classifier needs it) and `contact_points` the world positions
 /// of the pressed taxels (`append_contact_points`; the patch classifiers
-/// need them, and a touch without any stands for one at its position).
-/// Without a normal the orientation is unknown and `contact_points` is
-/// ignored. Build one with `live_touch_of`.
+/// need them, and a touch without any stands for one at its position) and
+/// `free_points` those of the other taxels (`append_free_points`; the
+/// occupancy classifier needs them). Without a normal the orientation is
+/// unknown and both are ignored. Build one with `live_touch_of`.
 struct LiveTouch {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::VectorXf feature;
   Index word = 0;
   std::optional<Eigen::Vector3d> normal;
   Eigen::Matrix3Xd contact_points;
+  Eigen::Matrix3Xd free_points;
 };
 
 /// The touch of a contact frame: its position and, when the frame has an
-/// orientation, the pad normal and the taxels above `contact_threshold` placed
-/// with `pitch` (as `make_touch_table` does); `feature` and `word` are the
-/// caller's.
+/// orientation, the pad normal, the taxels above `contact_threshold` and the
+/// others placed with `pitch` (as `make_touch_table` does); `feature` and
+/// `word` are the caller's.
 inline LiveTouch live_touch_of(const Frame& frame, double contact_threshold, double pitch, Eigen::VectorXf feature,
                                Index word) {
   LiveTouch t;
@@ -79,16 +81,23 @@ inline LiveTouch live_touch_of(const Frame& frame, double contact_threshold, dou
   t.word = word;
   if (frame.orientation) {
     t.normal = frame.orientation->normalized() * Eigen::Vector3d::UnitZ();
+    auto as_matrix = [](const std::vector<Eigen::Vector3d>& points) {
+      Eigen::Matrix3Xd m(3, static_cast<Index>(points.size()));
+      for (std::size_t k = 0; k < points.size(); ++k) m.col(static_cast<Index>(k)) = points[k];
+      return m;
+    };
     std::vector<Eigen::Vector3d> points;
     append_contact_points(frame, contact_threshold, pitch, points);
-    t.contact_points.resize(3, static_cast<Index>(points.size()));
-    for (std::size_t k = 0; k < points.size(); ++k) t.contact_points.col(static_cast<Index>(k)) = points[k];
+    t.contact_points = as_matrix(points);
+    points.clear();
+    append_free_points(frame, contact_threshold, pitch, points);
+    t.free_points = as_matrix(points);
   }
   return t;
 }
 
-/// Touch `i` of `touches` (position, descriptor, and the normal and contact
-/// points when the set has normals) with codebook word `word`.
+/// Touch `i` of `touches` (position, descriptor, and the normal, contact
+/// and free points when the set has normals) with codebook word `word`.
 inline LiveTouch live_touch_of(const TouchSet& touches, Index i, Index word) {
   if (i < 0 || i >= touches.size())
     throw InvalidArgument("i", "touch " + std::to_string(i) + " is outside [0, " + std::to_string(touches.size()) + ")");
@@ -102,6 +111,8 @@ inline LiveTouch live_touch_of(const TouchSet& touches, Index i, Index word) {
     const Index end = touches.contact_offsets[static_cast<std::size_t>(i) + 1];
     t.contact_points = touches.contact_points.middleCols(begin, end - begin);
   }
+  if (touches.has_normals() && touches.has_free())
+    t.free_points = touches.free_points.middleCols(touches.free_offsets[static_cast<std::size_t>(i)], touches.free_of(i));
   return t;
 }
 
@@ -195,7 +206,7 @@ class LiveSession {
   /// orientation (a normal, with the contact points) on every touch or on
   /// none (the first touch decides). Throws NonFiniteValue /
   /// DimensionMismatch / InvalidArgument naming the field ("position",
-  /// "feature", "word", "normal", "contact_points"), and whatever the
+  /// "feature", "word", "normal", "contact_points", "free_points"), and whatever the
   /// classifiers throw for a touch they cannot use (e.g. height without a
   /// normal); the session is unchanged then.
   LiveStop add_touch(const LiveTouch& touch) {
@@ -211,7 +222,10 @@ class LiveSession {
       if (std::abs(touch.normal->norm() - 1.0) > 1e-6)
         throw InvalidArgument("normal", "is not a unit vector (norm " + std::to_string(touch.normal->norm()) + ")");
     }
-    if (touch.normal) check_finite(touch.contact_points, "contact_points");
+    if (touch.normal) {
+      check_finite(touch.contact_points, "contact_points");
+      check_finite(touch.free_points, "free_points");
+    }
     if (n > 0 && touch.normal.has_value() != touches_.has_normals())
       throw InvalidArgument("normal", std::string("touch ") + std::to_string(n + 1) +
                                           (touch.normal ? " has a pad normal but the earlier touches have none"
@@ -230,11 +244,15 @@ class LiveSession {
       next.normals.col(n) = *touch.normal;
     }
     if (touch.normal) {
-      const Index m = touch.contact_points.cols(), c = next.contact_points.cols();
-      if (n == 0) next.contact_offsets.assign(1, 0);
-      next.contact_points.conservativeResize(3, c + m);
-      next.contact_points.rightCols(m) = touch.contact_points;
-      next.contact_offsets.push_back(c + m);
+      auto append = [n](Eigen::Matrix3Xd& points, std::vector<Index>& offsets, const Eigen::Matrix3Xd& more) {
+        const Index m = more.cols(), c = points.cols();
+        if (n == 0) offsets.assign(1, 0);
+        points.conservativeResize(3, c + m);
+        points.rightCols(m) = more;
+        offsets.push_back(c + m);
+      };
+      append(next.contact_points, next.contact_offsets, touch.contact_points);
+      append(next.free_points, next.free_offsets, touch.free_points);
     }
     DistanceTable table = recognizer_->distances(next, only_);  // throws before anything changes
     Eigen::VectorXd fused = fusion_.evaluate(table);

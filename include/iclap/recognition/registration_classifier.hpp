@@ -214,13 +214,6 @@ struct embeds_per_touch : std::false_type {};
 template <typename E>
 struct embeds_per_touch<E, std::void_t<decltype(E::per_touch)>> : std::bool_constant<E::per_touch> {};
 
-/// A new identity for every fit of every classifier, so that a prepared pool
-/// is recognised as stale after a refit.
-inline std::uint64_t next_fit_id() {
-  static std::atomic<std::uint64_t> next{0};
-  return ++next;
-}
-
 template <typename E, typename Scalar, int Dim, typename = void>
 struct has_embed_reference : std::false_type {};
 template <typename E, typename Scalar, int Dim>

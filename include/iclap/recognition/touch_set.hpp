@@ -19,13 +19,21 @@ namespace iclap {
 /// codebook's label of that descriptor). Column / element i is touch i.
 /// A classifier reads only what it needs (ICP: positions; BoW: words;
 /// iCLAP: positions and words; iCLAP-N: positions and features; the patch
-/// classifiers: contact points; the height classifier: positions and normals).
+/// classifiers: contact points; the height classifier: positions and normals;
+/// the occupancy classifier: contact and free points).
 ///
 /// Contact points (optional) are where the object met the pad: the world
 /// positions of the taxels of each touch that were pressed, so one touch
 /// tells of a patch of surface instead of one point. Touch i owns columns
 /// [contact_offsets[i], contact_offsets[i + 1]) of `contact_points`;
 /// `contact_offsets` is empty when no touch has them.
+///
+/// Free points (optional, beyond the paper) are the other taxels of the same
+/// pads: the world positions of the taxels of each touch that were not
+/// pressed, where the pad was and the object was not (OccupancyClassifier
+/// reads them). Touch i owns columns [free_offsets[i], free_offsets[i + 1])
+/// of `free_points`; `free_offsets` is empty when no touch has them. A
+/// touch's contact and free points together are its whole taxel grid.
 ///
 /// Normals (optional) are the pad's normal at each touch: the unit z axis of
 /// the pad frame in the world, pointing from the pad into the object (world
@@ -38,15 +46,17 @@ struct TouchSet {
   Eigen::Matrix3Xd contact_points;
   std::vector<Index> contact_offsets;
   Eigen::Matrix3Xd normals;
+  Eigen::Matrix3Xd free_points;
+  std::vector<Index> free_offsets;
 
   Index size() const noexcept { return positions.cols(); }
   bool has_contacts() const noexcept { return !contact_offsets.empty(); }
   bool has_normals() const noexcept { return normals.cols() > 0; }
+  bool has_free() const noexcept { return !free_offsets.empty(); }
   /// Number of contact points of touch i (0 without contact points).
-  Index contacts_of(Index i) const {
-    return has_contacts() ? contact_offsets[static_cast<std::size_t>(i) + 1] - contact_offsets[static_cast<std::size_t>(i)]
-                          : 0;
-  }
+  Index contacts_of(Index i) const { return has_contacts() ? span(contact_offsets, i) : 0; }
+  /// Number of free points of touch i (0 without free points).
+  Index free_of(Index i) const { return has_free() ? span(free_offsets, i) : 0; }
 
   /// Throws EmptyInput / DimensionMismatch / NonFiniteValue naming
   /// `argument` when the set is empty, its parts disagree in length (parts
@@ -60,16 +70,8 @@ struct TouchSet {
       check_finite(features, argument + ".features");
     }
     if (words.size() > 0) check_dimension(words.size(), positions.cols(), argument + ".words (touches)");
-    if (has_contacts()) {
-      check_dimension(static_cast<Index>(contact_offsets.size()), positions.cols() + 1,
-                      argument + ".contact_offsets (touches + 1)");
-      if (contact_offsets.front() != 0 || contact_offsets.back() != contact_points.cols() ||
-          !std::is_sorted(contact_offsets.begin(), contact_offsets.end()))
-        throw InvalidArgument(argument + ".contact_offsets",
-                              "must rise from 0 to the number of contact points (" +
-                                  std::to_string(contact_points.cols()) + ")");
-      check_finite(contact_points, argument + ".contact_points");
-    }
+    if (has_contacts()) validate_points(contact_points, contact_offsets, argument, "contact");
+    if (has_free()) validate_points(free_points, free_offsets, argument, "free");
     if (has_normals()) {
       check_dimension(normals.cols(), positions.cols(), argument + ".normals (touches)");
       check_finite(normals, argument + ".normals");
@@ -79,7 +81,49 @@ struct TouchSet {
                                                            std::to_string(normals.col(i).norm()) + ")");
     }
   }
+
+ private:
+  static Index span(const std::vector<Index>& offsets, Index i) {
+    return offsets[static_cast<std::size_t>(i) + 1] - offsets[static_cast<std::size_t>(i)];
+  }
+  /// The checks of one kind of per-touch points ("contact" or "free").
+  void validate_points(const Eigen::Matrix3Xd& points, const std::vector<Index>& offsets, const std::string& argument,
+                       const std::string& kind) const {
+    check_dimension(static_cast<Index>(offsets.size()), positions.cols() + 1,
+                    argument + "." + kind + "_offsets (touches + 1)");
+    if (offsets.front() != 0 || offsets.back() != points.cols() || !std::is_sorted(offsets.begin(), offsets.end()))
+      throw InvalidArgument(argument + "." + kind + "_offsets",
+                            "must rise from 0 to the number of " + kind + " points (" + std::to_string(points.cols()) + ")");
+    check_finite(points, argument + "." + kind + "_points");
+  }
 };
+
+namespace detail {
+
+/// Per-touch points (`points`, `offsets` as TouchSet's contact or free
+/// points) of the touches `indices`, in that order, into `out_points` /
+/// `out_offsets`.
+template <typename Indices>
+void select_touch_points(const Eigen::Matrix3Xd& points, const std::vector<Index>& offsets, const Indices& indices,
+                         Eigen::Matrix3Xd& out_points, std::vector<Index>& out_offsets) {
+  auto count = [&](Index s) { return offsets[static_cast<std::size_t>(s) + 1] - offsets[static_cast<std::size_t>(s)]; };
+  out_offsets.clear();
+  out_offsets.reserve(static_cast<std::size_t>(std::size(indices)) + 1);
+  out_offsets.push_back(0);
+  Index total = 0;
+  for (const auto i : indices) total += count(static_cast<Index>(i));
+  out_points.resize(3, total);
+  Index k = 0;
+  for (const auto i : indices) {
+    const auto s = static_cast<Index>(i);
+    const Index m = count(s);
+    out_points.middleCols(k, m) = points.middleCols(offsets[static_cast<std::size_t>(s)], m);
+    k += m;
+    out_offsets.push_back(k);
+  }
+}
+
+}  // namespace detail
 
 /// The touches of `source` selected by `indices`, in that order.
 template <typename Indices>
@@ -99,22 +143,11 @@ TouchSet select_touches(const TouchSet& source, const Indices& indices) {
     if (source.has_normals()) out.normals.col(j) = source.normals.col(s);
     ++j;
   }
-  if (source.has_contacts()) {
-    out.contact_offsets.reserve(static_cast<std::size_t>(n) + 1);
-    out.contact_offsets.push_back(0);
-    Index total = 0;
-    for (const auto i : indices) total += source.contacts_of(static_cast<Index>(i));
-    out.contact_points.resize(3, total);
-    Index k = 0;
-    for (const auto i : indices) {
-      const auto s = static_cast<Index>(i);
-      const Index m = source.contacts_of(s);
-      out.contact_points.middleCols(k, m) =
-          source.contact_points.middleCols(source.contact_offsets[static_cast<std::size_t>(s)], m);
-      k += m;
-      out.contact_offsets.push_back(k);
-    }
-  }
+  if (source.has_contacts())
+    detail::select_touch_points(source.contact_points, source.contact_offsets, indices, out.contact_points,
+                                out.contact_offsets);
+  if (source.has_free())
+    detail::select_touch_points(source.free_points, source.free_offsets, indices, out.free_points, out.free_offsets);
   return out;
 }
 

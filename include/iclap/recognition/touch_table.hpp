@@ -112,13 +112,13 @@ inline double taxel_pitch_of(const Dataset& dataset, double fallback = 0.0034) {
   return fallback;
 }
 
-/// The world positions of the pressed taxels of `frame` (pressure above
-/// `threshold`), appended to `out`: taxel (r, c) sits at ((r - (rows-1)/2)
-/// pitch, (c - (cols-1)/2) pitch, 0) in the pad frame, whose x axis runs
-/// along the rows, y along the columns and z into the object; the frame's
-/// orientation (qw..qz) turns the pad frame into the world. Nothing is
-/// appended for a frame without orientation. Returns the number appended.
-inline Index append_contact_points(const Frame& frame, double threshold, double pitch, std::vector<Eigen::Vector3d>& out) {
+namespace detail {
+
+/// The world positions of the taxels of `frame` that were pressed (pressure
+/// above `threshold`; `pressed`) or not (`!pressed`), appended to `out`:
+/// see append_contact_points. Returns the number appended.
+inline Index append_taxel_points(const Frame& frame, double threshold, double pitch, bool pressed,
+                                 std::vector<Eigen::Vector3d>& out) {
   if (!frame.orientation) return 0;
   const Eigen::Matrix3d R = frame.orientation->normalized().toRotationMatrix();
   const double r0 = 0.5 * static_cast<double>(frame.pressures.rows() - 1);
@@ -126,7 +126,7 @@ inline Index append_contact_points(const Frame& frame, double threshold, double 
   Index n = 0;
   for (Index r = 0; r < frame.pressures.rows(); ++r)
     for (Index c = 0; c < frame.pressures.cols(); ++c)
-      if (frame.pressures(r, c) > threshold) {
+      if ((frame.pressures(r, c) > threshold) == pressed) {
         out.push_back(frame.position +
                       R * Eigen::Vector3d((static_cast<double>(r) - r0) * pitch, (static_cast<double>(c) - c0) * pitch, 0.0));
         ++n;
@@ -134,10 +134,31 @@ inline Index append_contact_points(const Frame& frame, double threshold, double 
   return n;
 }
 
+}  // namespace detail
+
+/// The world positions of the pressed taxels of `frame` (pressure above
+/// `threshold`), appended to `out`: taxel (r, c) sits at ((r - (rows-1)/2)
+/// pitch, (c - (cols-1)/2) pitch, 0) in the pad frame, whose x axis runs
+/// along the rows, y along the columns and z into the object; the frame's
+/// orientation (qw..qz) turns the pad frame into the world. Nothing is
+/// appended for a frame without orientation. Returns the number appended.
+inline Index append_contact_points(const Frame& frame, double threshold, double pitch, std::vector<Eigen::Vector3d>& out) {
+  return detail::append_taxel_points(frame, threshold, pitch, true, out);
+}
+
+/// The world positions of the other taxels of `frame` (pressure at or below
+/// `threshold`: where the pad was and the object was not), placed as by
+/// append_contact_points and appended to `out`. Nothing is appended for a
+/// frame without orientation. Returns the number appended.
+inline Index append_free_points(const Frame& frame, double threshold, double pitch, std::vector<Eigen::Vector3d>& out) {
+  return detail::append_taxel_points(frame, threshold, pitch, false, out);
+}
+
 /// Builds the touch table of `dataset`: keeps the frames whose largest taxel
 /// is above `contact_threshold` (raw units) and runs `descriptor` on each;
-/// for frames with an orientation, also their contact points
-/// (`append_contact_points`, pitch from `taxel_pitch_of`); when every
+/// for frames with an orientation, also their contact and free points
+/// (`append_contact_points`, `append_free_points`, pitch from
+/// `taxel_pitch_of`); when every
 /// contact frame has an orientation, the pad normals (`TouchSet::normals`).
 /// Throws EmptyInput naming "dataset" when no frame is a contact, and what
 /// taxel_pitch_of throws when a contact frame has an orientation.
@@ -162,8 +183,8 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
   if (kept.empty())
     throw EmptyInput("dataset", "has no contact frame (no taxel above " + format_value(contact_threshold) + ")");
   const auto n = static_cast<Index>(kept.size());
-  std::vector<Eigen::Vector3d> contacts;
-  std::vector<Index> offsets{0};
+  std::vector<Eigen::Vector3d> contacts, free;
+  std::vector<Index> offsets{0}, free_offsets{0};
   bool oriented = true, any_oriented = false;
   for (const std::size_t i : kept) {
     oriented = oriented && dataset.frames[i].orientation.has_value();
@@ -192,6 +213,7 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
                     "features of dataset.frames[" + std::to_string(kept[ju]) + "]");
     t.touches.features.col(j) = feature.template cast<float>();
     offsets.push_back(offsets.back() + append_contact_points(f, contact_threshold, pitch, contacts));
+    free_offsets.push_back(free_offsets.back() + append_free_points(f, contact_threshold, pitch, free));
     if (progress && (j % 256 == 0 || j + 1 == n)) progress(static_cast<std::size_t>(j + 1), kept.size());
   }
   check_finite(t.touches.features, "features");
@@ -199,6 +221,11 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
     t.touches.contact_points.resize(3, static_cast<Index>(contacts.size()));
     for (std::size_t k = 0; k < contacts.size(); ++k) t.touches.contact_points.col(static_cast<Index>(k)) = contacts[k];
     t.touches.contact_offsets = std::move(offsets);
+  }
+  if (any_oriented) {
+    t.touches.free_points.resize(3, static_cast<Index>(free.size()));
+    for (std::size_t k = 0; k < free.size(); ++k) t.touches.free_points.col(static_cast<Index>(k)) = free[k];
+    t.touches.free_offsets = std::move(free_offsets);
   }
   return t;
 }

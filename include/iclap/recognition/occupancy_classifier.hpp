@@ -1,0 +1,336 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "iclap/core/check.hpp"
+#include "iclap/core/error.hpp"
+#include "iclap/recognition/classifier.hpp"
+#include "iclap/search/distance_field.hpp"
+
+namespace iclap {
+
+/// A bounded grid of planar placements of an object on its table (beyond
+/// the paper): shifts (dx, dy) on a square lattice of spacing `shift_step`
+/// within a disc of radius `max_shift`, times turns about the vertical in
+/// steps of `yaw_step` within +-`max_yaw`. It models how precisely the
+/// object is put back between explorations: the scene's prior, which the
+/// unbounded planar ICP ignores (it may slide a test anywhere on the table).
+/// Set it to the rig; the simulator re-places its objects within 10 mm and
+/// +-10 degrees by default (ExplorationSettings::placement_shift, _yaw).
+struct PlanarPlacements {
+  double max_shift = 10e-3;                              ///< metres, >= 0
+  double shift_step = 4e-3;                              ///< metres, > 0
+  double max_yaw = 10.0 * 3.14159265358979323846 / 180;  ///< radians, in [0, pi]
+  double yaw_step = 5.0 * 3.14159265358979323846 / 180;  ///< radians, > 0
+
+  /// Largest number of placements a grid may have.
+  static constexpr double kMaxPlacements = 1e5;
+
+  /// Throws InvalidArgument naming `argument`.max_shift / .shift_step /
+  /// .max_yaw / .yaw_step for a value out of range, or `argument` for a grid
+  /// of more than kMaxPlacements placements.
+  void validate(const std::string& argument = "placements") const {
+    check_non_negative(max_shift, argument + ".max_shift");
+    check_positive(shift_step, argument + ".shift_step");
+    if (!(max_yaw >= 0 && max_yaw <= 3.14159265358979323846))
+      throw InvalidArgument(argument + ".max_yaw", "must be in [0, pi] rad, got " + format_value(max_yaw));
+    check_positive(yaw_step, argument + ".yaw_step");
+    const double shifts = std::pow(2 * std::floor(max_shift / shift_step) + 1, 2);
+    const double yaws = 2 * std::floor(max_yaw / yaw_step) + 1;
+    if (!(shifts * yaws <= kMaxPlacements))
+      throw InvalidArgument(argument, "a grid of up to " + format_value(shifts * yaws) + " placements exceeds " +
+                                          format_value(kMaxPlacements) + "; use larger steps");
+  }
+
+  /// The grid as (dx, dy, yaw) columns, the identity first, then by
+  /// increasing shift and turn (ties between equal errors go to the smaller
+  /// motion). Throws like validate().
+  Eigen::Matrix3Xd grid(const std::string& argument = "placements") const {
+    validate(argument);
+    const int ns = static_cast<int>(std::floor(max_shift / shift_step + 1e-9));
+    const int ny = static_cast<int>(std::floor(max_yaw / yaw_step + 1e-9));
+    std::vector<Eigen::Vector3d> out;
+    for (int a = -ns; a <= ns; ++a)
+      for (int b = -ns; b <= ns; ++b) {
+        const double dx = a * shift_step, dy = b * shift_step;
+        if (std::hypot(dx, dy) > max_shift * (1 + 1e-9)) continue;
+        for (int y = -ny; y <= ny; ++y) out.emplace_back(dx, dy, y * yaw_step);
+      }
+    std::stable_sort(out.begin(), out.end(), [](const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+      const double sp = p.head<2>().squaredNorm(), sq = q.head<2>().squaredNorm();
+      return sp != sq ? sp < sq : std::abs(p.z()) < std::abs(q.z());
+    });
+    Eigen::Matrix3Xd m(3, static_cast<Index>(out.size()));
+    for (std::size_t k = 0; k < out.size(); ++k) m.col(static_cast<Index>(k)) = out[k];
+    return m;
+  }
+};
+
+/// What is known of one object's surface: points where it was felt
+/// (`occupied`, e.g. the contact points of its training touches, or points
+/// sampled on a CAD model) and points where a pad was and it was not
+/// (`free`, the taxels of those touches that felt nothing; may be empty).
+/// Metres, in the table frame of the references.
+struct OccupancyEvidence {
+  Eigen::Matrix3Xd occupied;
+  Eigen::Matrix3Xd free;
+};
+
+/// Recognition from where the pad felt the object and where it did not
+/// (beyond the paper). Every touch of a tactile array is a small map: the
+/// pressed taxels lie on the surface (its contact points), and the others
+/// lie where, at that moment, there was no surface within the foam's reach
+/// (its free points, TouchSet::free_points). The training touches of each
+/// object give two truncated distance fields: D_occ to the closest occupied
+/// point (truncated at tau = `truncation`) and D_free to the closest free
+/// point (truncated at rho = `free_radius`). A test touch i is scored under
+/// a planar placement g of the object (PlanarPlacements, turning about the
+/// centre of the object's occupied points) as
+///
+///   c_i(g) = sum over its contact points p of  min(D_occ(g p)^2, tau^2)
+///                + gamma tau^2 [D_free(g p) < min(D_occ(g p), rho)]
+///          + sum over its free points u of  gamma tau^2 [D_occ(g u) < min(D_free(g u), rho)]
+///
+/// and the distance of a test to the object is E = min_g sum_i c_i(g).
+/// The first term is the paper's point-to-point error (Section IV, E_ICP)
+/// with every pressed taxel as a point, truncated so that a touch on
+/// surface the references never saw costs tau^2 whatever the object; the
+/// two bracketed terms (gamma = `conflict_weight`) charge a contradiction:
+/// the test pressed where a training pad felt nothing, or felt nothing
+/// where a training pad pressed. A thin handle and a broad face at one
+/// height, or the overhang of a pad past an edge that one look-alike has
+/// and the other has not, then differ even where the explorations touched
+/// different places. The placement is searched exhaustively over the grid,
+/// not by ICP iterations: there is no sliding into a wrong local fit
+/// outside the prior, and the per-touch costs of a pool of touches can be
+/// computed once for every subset drawn from it (`prepare_pool`).
+///
+/// Costs O(placements x objects x taxels per touch) field lookups per test
+/// touch (105 placements by default; about 1.8 M lookups for 20 touches
+/// against 20 objects of the 14 x 6 pad). The fields take memory in
+/// proportion to the surface the evidence covers (TruncatedDistanceField).
+/// `distances` is const and thread-safe.
+class OccupancyClassifier final : public Classifier {
+ public:
+  /// Field lattice spacing, metres (1 mm: a third of the WTS taxel pitch).
+  double voxel = 1e-3;
+  /// tau: the largest squared distance a contact point is charged is tau^2,
+  /// metres (3 mm, about the taxel pitch); at most 64 voxels.
+  double truncation = 3e-3;
+  /// rho: how close a point of the other kind must be for a contradiction,
+  /// metres; in (0, truncation].
+  double free_radius = 2e-3;
+  /// gamma: the cost of a contradiction in units of tau^2; >= 0 (0: the
+  /// free points are not used).
+  double conflict_weight = 0.3;
+  /// The placements searched.
+  PlanarPlacements placements;
+  /// The name in a Recognizer; empty (the default): "occupancy".
+  std::string label;
+
+  std::string name() const override { return label.empty() ? "occupancy" : label; }
+
+  /// Throws InvalidArgument naming the first setting out of range.
+  void validate() const {
+    TruncatedDistanceField::validate({voxel, truncation});
+    if (!(std::isfinite(free_radius) && free_radius > 0 && free_radius <= truncation))
+      throw InvalidArgument("free_radius", "must be > 0 and at most truncation (" + format_value(truncation) +
+                                               " m), got " + format_value(free_radius));
+    check_non_negative(conflict_weight, "conflict_weight");
+    placements.validate("placements");
+  }
+
+  /// The references from training touches: object j's contact points are
+  /// its occupied evidence and its free points its free evidence. Throws
+  /// EmptyInput naming "objects" for none, "objects[j].contact_points" /
+  /// "objects[j].free_points" for an object without them (touches without
+  /// the pad orientation), and what fit_evidence throws.
+  void fit(const std::vector<TouchSet>& objects, Index /*vocabulary*/) override {
+    std::vector<OccupancyEvidence> evidence(objects.size());
+    for (std::size_t j = 0; j < objects.size(); ++j) {
+      const std::string arg = "objects[" + std::to_string(j) + "]";
+      objects[j].validate(arg);
+      require_taxels(objects[j], arg);
+      evidence[j].occupied = objects[j].contact_points;
+      evidence[j].free = objects[j].free_points;
+    }
+    fit_evidence(evidence);
+  }
+
+  /// The references from any evidence (e.g. surfaces sampled from CAD
+  /// models, with no free points). Throws what validate() throws, EmptyInput
+  /// naming "objects" for none or "objects[j].occupied" for an object with
+  /// no occupied point, and what TruncatedDistanceField throws (naming
+  /// "objects[j].occupied" / ".free").
+  void fit_evidence(const std::vector<OccupancyEvidence>& objects) {
+    validate();
+    if (objects.empty()) throw EmptyInput("objects", "no object to recognise");
+    std::vector<Reference> refs;
+    refs.reserve(objects.size());
+    for (std::size_t j = 0; j < objects.size(); ++j) {
+      const std::string arg = "objects[" + std::to_string(j) + "]";
+      if (objects[j].occupied.cols() == 0) throw EmptyInput(arg + ".occupied", "no point where the object was felt");
+      Reference r;
+      r.occupied = TruncatedDistanceField(objects[j].occupied, {voxel, truncation}, arg + ".occupied");
+      r.free = TruncatedDistanceField(objects[j].free, {voxel, free_radius}, arg + ".free");
+      r.centre = objects[j].occupied.rowwise().mean().head<2>();
+      refs.push_back(std::move(r));
+    }
+    grid_ = placements.grid("placements");
+    fitted_ = Fitted{truncation, free_radius, conflict_weight};
+    references_ = std::move(refs);
+    fit_id_ = detail::next_fit_id();
+  }
+
+  Index objects() const override { return static_cast<Index>(references_.size()); }
+
+  /// Number of placements searched per object (of the last fit).
+  Index placement_count() const noexcept { return grid_.cols(); }
+
+  /// Uses the settings of the last fit, whatever they are now. Throws
+  /// InvalidArgument naming "distances" before a fit, EmptyInput naming
+  /// "test.contact_points" / "test.free_points" for touches without them.
+  void distances(const TouchSet& test, Eigen::Ref<Eigen::VectorXd> out) const override {
+    check_fitted("distances");
+    check_dimension(out.size(), objects(), "out");
+    test.validate("test");
+    require_taxels(test, "test");
+    std::vector<Index> all(static_cast<std::size_t>(test.size()));
+    for (Index i = 0; i < test.size(); ++i) all[static_cast<std::size_t>(i)] = i;
+    std::vector<double> costs;
+    for (Index j = 0; j < objects(); ++j) {
+      touch_costs(test, j, costs);
+      out(j) = best_sum(costs, test.size(), all);
+    }
+  }
+
+  /// The cost c_i(g) of every touch of `pool` under every placement, for
+  /// every object: what every test drawn from the pool sums. Throws like
+  /// distances (naming "pool").
+  std::shared_ptr<const PreparedPool> prepare_pool(const TouchSet& pool) const override {
+    check_fitted("prepare_pool");
+    pool.validate("pool");
+    require_taxels(pool, "pool");
+    auto prepared = std::make_shared<Costs>();
+    prepared->fit = fit_id_;
+    prepared->touches = pool.size();
+    prepared->costs.resize(references_.size());
+    for (Index j = 0; j < objects(); ++j) touch_costs(pool, j, prepared->costs[static_cast<std::size_t>(j)]);
+    return prepared;
+  }
+
+  /// Exactly the distances of `distances(select_touches(pool, subset), out)`
+  /// (the same per-touch costs summed in the same order). Throws
+  /// InvalidArgument naming "prepared" for a preparation of another
+  /// classifier, pool or fit, and "subset" for an index outside the pool.
+  void pool_distances(const TouchSet& pool, const PreparedPool* prepared, const std::vector<Index>& subset,
+                      Eigen::Ref<Eigen::VectorXd> out) const override {
+    if (!prepared) return Classifier::pool_distances(pool, prepared, subset, out);
+    const auto* costs = dynamic_cast<const Costs*>(prepared);
+    if (!costs || costs->fit != fit_id_ || costs->touches != pool.size())
+      throw InvalidArgument("prepared", "was not made by prepare_pool of this classifier for this pool since its last fit");
+    checked_subset(pool, subset);
+    check_dimension(out.size(), objects(), "out");
+    if (subset.empty()) throw EmptyInput("test", "holds no touch");
+    for (Index j = 0; j < objects(); ++j) out(j) = best_sum(costs->costs[static_cast<std::size_t>(j)], pool.size(), subset);
+  }
+
+ private:
+  struct Reference {
+    TruncatedDistanceField occupied, free;
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // the turns' vertical axis
+  };
+  struct Fitted {
+    double truncation = 0, free_radius = 0, conflict_weight = 0;
+  };
+  struct Costs final : PreparedPool {
+    std::uint64_t fit = 0;
+    Index touches = 0;
+    std::vector<std::vector<double>> costs;  // per object: placements x touches, touch fastest
+  };
+
+  void check_fitted(const std::string& what) const {
+    if (references_.empty()) throw InvalidArgument(what, "called before fit");
+  }
+
+  void require_taxels(const TouchSet& s, const std::string& argument) const {
+    if (!s.has_contacts())
+      throw EmptyInput(argument + ".contact_points", "the " + name() +
+                                                          " classifier needs the pressed taxels of every touch, placed "
+                                                          "by the pad orientation (dataset columns qw, qx, qy, qz)");
+    if (!s.has_free())
+      throw EmptyInput(argument + ".free_points", "the " + name() +
+                                                       " classifier needs the taxels that were not pressed, placed by "
+                                                       "the pad orientation (dataset columns qw, qx, qy, qz)");
+  }
+
+  /// costs[g * n + i] = c_i(g) for every touch i of `s` against object j.
+  void touch_costs(const TouchSet& s, Index j, std::vector<double>& costs) const {
+    const Reference& r = references_[static_cast<std::size_t>(j)];
+    const Index n = s.size(), G = grid_.cols();
+    costs.assign(static_cast<std::size_t>(G * n), 0.0);
+    const auto cap = static_cast<float>(fitted_.truncation * fitted_.truncation);
+    const auto rho2 = static_cast<float>(fitted_.free_radius * fitted_.free_radius);
+    const double penalty = fitted_.conflict_weight * static_cast<double>(cap);
+    const bool conflicts = fitted_.conflict_weight > 0;
+    for (Index g = 0; g < G; ++g) {
+      // q = R (p - c) + c + t: the test point in the reference's frame.
+      const double cy = std::cos(grid_(2, g)), sy = std::sin(grid_(2, g));
+      const Eigen::Vector2d b = r.centre + grid_.col(g).head<2>() -
+                                Eigen::Vector2d(cy * r.centre.x() - sy * r.centre.y(), sy * r.centre.x() + cy * r.centre.y());
+      auto place = [&](const Eigen::Vector3d& p) {
+        return Eigen::Vector3d(cy * p.x() - sy * p.y() + b.x(), sy * p.x() + cy * p.y() + b.y(), p.z());
+      };
+      for (Index i = 0; i < n; ++i) {
+        double c = 0;
+        const Index c0 = s.contact_offsets[static_cast<std::size_t>(i)], c1 = s.contact_offsets[static_cast<std::size_t>(i) + 1];
+        for (Index k = c0; k < c1; ++k) {
+          const Eigen::Vector3d q = place(s.contact_points.col(k));
+          const float dn = r.occupied.squared_distance(q);
+          c += static_cast<double>(dn);
+          if (conflicts) {
+            const float df = r.free.squared_distance(q);
+            if (df < dn && df < rho2) c += penalty;
+          }
+        }
+        if (conflicts) {
+          const Index f0 = s.free_offsets[static_cast<std::size_t>(i)], f1 = s.free_offsets[static_cast<std::size_t>(i) + 1];
+          for (Index k = f0; k < f1; ++k) {
+            const Eigen::Vector3d q = place(s.free_points.col(k));
+            const float dn = r.occupied.squared_distance(q);
+            if (dn < rho2 && dn < r.free.squared_distance(q)) c += penalty;
+          }
+        }
+        costs[static_cast<std::size_t>(g * n + i)] = c;
+      }
+    }
+  }
+
+  /// min over placements g of the sum over `subset` (in its order) of
+  /// costs[g * n + i].
+  double best_sum(const std::vector<double>& costs, Index n, const std::vector<Index>& subset) const {
+    double best = std::numeric_limits<double>::infinity();
+    for (Index g = 0; g < grid_.cols(); ++g) {
+      const double* row = costs.data() + g * n;
+      double e = 0;
+      for (const Index i : subset) e += row[i];
+      best = std::min(best, e);
+    }
+    return best;
+  }
+
+  std::vector<Reference> references_;
+  Eigen::Matrix3Xd grid_;
+  Fitted fitted_;
+  std::uint64_t fit_id_ = 0;
+};
+
+}  // namespace iclap

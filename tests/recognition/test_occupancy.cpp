@@ -1,0 +1,354 @@
+// SPDX-License-Identifier: MIT
+// Free points of touches and the occupancy classifier: its placement grid,
+// what the free points decide, pool reuse and its errors.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "iclap/core/random.hpp"
+#include "iclap/recognition/live_session.hpp"
+#include "iclap/recognition/occupancy_classifier.hpp"
+#include "iclap/recognition/touch_table.hpp"
+#include "iclap/tactile/raw_pressures.hpp"
+
+using namespace iclap;
+
+namespace {
+
+constexpr double kPi = 3.141592653589793;
+constexpr double kPitch = 0.0034;
+
+/// A box on the table, `length` along x and `width` along y, `height` tall,
+/// centred at `centre` (x, y).
+struct Box {
+  double length, width, height;
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  bool over(double x, double y) const {
+    return std::abs(x - centre.x()) <= length / 2 && std::abs(y - centre.y()) <= width / 2;
+  }
+};
+
+/// Touches of a 14 x 6 pad pressing straight down on the top face of `box`
+/// with its centre at each of `centres` (x, y): a taxel over the box is
+/// pressed (a contact point), the others are free points, all at the top's
+/// height. The pad's rows run along world x, its columns along world y.
+TouchSet pad_touches(const Box& box, const std::vector<Eigen::Vector2d>& centres) {
+  TouchSet s;
+  const auto n = static_cast<Index>(centres.size());
+  s.positions.resize(3, n);
+  s.normals.resize(3, n);
+  std::vector<Eigen::Vector3d> pressed, free;
+  s.contact_offsets = {0};
+  s.free_offsets = {0};
+  for (Index i = 0; i < n; ++i) {
+    const Eigen::Vector2d& c = centres[static_cast<std::size_t>(i)];
+    s.positions.col(i) = Eigen::Vector3d(c.x(), c.y(), box.height);
+    s.normals.col(i) = Eigen::Vector3d(0, 0, -1);
+    for (int r = 0; r < 14; ++r)
+      for (int k = 0; k < 6; ++k) {
+        const Eigen::Vector3d p(c.x() + (r - 6.5) * kPitch, c.y() + (k - 2.5) * kPitch, box.height);
+        (box.over(p.x(), p.y()) ? pressed : free).push_back(p);
+      }
+    s.contact_offsets.push_back(static_cast<Index>(pressed.size()));
+    s.free_offsets.push_back(static_cast<Index>(free.size()));
+  }
+  s.contact_points.resize(3, static_cast<Index>(pressed.size()));
+  for (std::size_t k = 0; k < pressed.size(); ++k) s.contact_points.col(static_cast<Index>(k)) = pressed[k];
+  s.free_points.resize(3, static_cast<Index>(free.size()));
+  for (std::size_t k = 0; k < free.size(); ++k) s.free_points.col(static_cast<Index>(k)) = free[k];
+  return s;
+}
+
+/// Pad centres on a grid over [x0, x1] x [y0, y1], `step` apart.
+std::vector<Eigen::Vector2d> grid_of(double x0, double x1, double y0, double y1, double step) {
+  std::vector<Eigen::Vector2d> out;
+  for (double x = x0; x <= x1 + 1e-12; x += step)
+    for (double y = y0; y <= y1 + 1e-12; y += step) out.emplace_back(x, y);
+  return out;
+}
+
+/// `s` moved by the planar motion (shift, yaw about the origin).
+TouchSet moved(TouchSet s, const Eigen::Vector2d& shift, double yaw) {
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  auto move = [&](Eigen::Matrix3Xd& m) {
+    m = R * m;
+    m.topRows<2>().colwise() += shift;
+  };
+  move(s.positions);
+  move(s.contact_points);
+  move(s.free_points);
+  s.normals = R * s.normals;
+  return s;
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The two look-alikes: equal height and flat tops, 60 x 40 mm and 100 x 60 mm.
+const Box kSmall{0.06, 0.04, 0.03};
+const Box kLarge{0.10, 0.06, 0.03};
+
+/// References from pads all over each top and past its edges (training
+/// explorations that saw both boxes whole).
+std::vector<TouchSet> training() {
+  return {pad_touches(kSmall, grid_of(-0.04, 0.04, -0.03, 0.03, 0.01)),
+          pad_touches(kLarge, grid_of(-0.06, 0.06, -0.04, 0.04, 0.01))};
+}
+
+}  // namespace
+
+TEST_CASE("make_touch_table and live touches carry the free points: the taxels that felt nothing") {
+  Dataset ds;
+  ds.rows = 14;
+  ds.cols = 6;
+  Frame f;
+  f.object = "a";
+  f.position = Eigen::Vector3d(0.01, 0.02, 0.03);
+  f.pressures = Eigen::MatrixXd::Zero(14, 6);
+  f.pressures.block(0, 0, 5, 6).setConstant(100);  // rows 0-4 pressed
+  f.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX()));  // straight down
+  ds.frames = {f};
+  const TouchTable t = make_touch_table(ds, RawPressures<float>{}, 20.0);
+  REQUIRE(t.touches.has_free());
+  CHECK(t.touches.contacts_of(0) == 30);
+  CHECK(t.touches.free_of(0) == 54);
+  // Together they are the whole grid, each taxel once.
+  std::vector<Eigen::Vector3d> all;
+  append_contact_points(f, 20.0, kPitch, all);
+  append_free_points(f, 20.0, kPitch, all);
+  CHECK(all.size() == 84);
+  for (Index k = 0; k < 54; ++k) {
+    const Eigen::Vector3d p = t.touches.free_points.col(k);
+    CHECK(p.z() == doctest::Approx(0.03));
+    // Free taxels are rows 5..13: along +x from the pad centre's row 6.5.
+    CHECK(p.x() > 0.01 + (5 - 6.5) * kPitch - 1e-9);
+  }
+  const LiveTouch live = live_touch_of(f, 20.0, kPitch, Eigen::VectorXf(), 0);
+  CHECK(live.contact_points.cols() == 30);
+  CHECK(live.free_points.cols() == 54);
+  CHECK(live.free_points == t.touches.free_points);
+  const LiveTouch again = live_touch_of(t.touches, 0, 0);
+  CHECK(again.free_points == t.touches.free_points);
+  // Without an orientation there is nowhere to put them.
+  ds.frames[0].orientation.reset();
+  CHECK(!make_touch_table(ds, RawPressures<float>{}, 20.0).touches.has_free());
+}
+
+TEST_CASE("touch sets: free points are selected with their touches and checked like contact points") {
+  const TouchSet s = pad_touches(kSmall, {{0.0, 0.0}, {0.028, 0.0}, {-0.03, 0.015}});
+  CHECK_NOTHROW(s.validate("s"));
+  CHECK(s.free_of(0) + s.contacts_of(0) == 84);
+  const TouchSet two = select_touches(s, std::vector<Index>{2, 1});
+  CHECK(two.free_of(0) == s.free_of(2));
+  CHECK(two.free_of(1) == s.free_of(1));
+  CHECK(two.free_points.leftCols(s.free_of(2)) == s.free_points.middleCols(s.free_offsets[2], s.free_of(2)));
+  TouchSet bad = s;
+  bad.free_offsets[1] = bad.free_offsets[2] + 1;  // not rising
+  CHECK(error_of([&] { bad.validate("s"); }).find("s.free_offsets") != std::string::npos);
+  bad = s;
+  bad.free_offsets.pop_back();
+  CHECK(error_of([&] { bad.validate("s"); }).find("s.free_offsets (touches + 1)") != std::string::npos);
+  bad = s;
+  bad.free_points(2, 3) = std::numeric_limits<double>::quiet_NaN();
+  CHECK(error_of([&] { bad.validate("s"); }).find("s.free_points") != std::string::npos);
+}
+
+TEST_CASE("PlanarPlacements: a bounded grid, identity first, every motion within the bounds") {
+  PlanarPlacements p;
+  const Eigen::Matrix3Xd g = p.grid();
+  CHECK(g.cols() == 21 * 5);  // shifts of 4 mm within 10 mm (21), turns of 5 degrees within 10 (5)
+  CHECK(g.col(0) == Eigen::Vector3d::Zero());
+  for (Index k = 0; k < g.cols(); ++k) {
+    CHECK(g.col(k).head<2>().norm() <= p.max_shift + 1e-12);
+    CHECK(std::abs(g(2, k)) <= p.max_yaw + 1e-12);
+    if (k > 0) CHECK(g.col(k - 1).head<2>().squaredNorm() <= g.col(k).head<2>().squaredNorm() + 1e-18);
+  }
+  p.max_shift = 0;
+  p.max_yaw = 0;
+  CHECK(p.grid().cols() == 1);
+  p.max_yaw = 2 * kPi / 180;
+  p.yaw_step = kPi / 180;
+  CHECK(p.grid().cols() == 5);
+  PlanarPlacements bad;
+  bad.shift_step = 0;
+  CHECK(error_of([&] { bad.grid("placements"); }).find("placements.shift_step") != std::string::npos);
+  bad = PlanarPlacements{};
+  bad.max_yaw = 4;
+  CHECK(error_of([&] { bad.validate("p"); }).find("p.max_yaw") != std::string::npos);
+  bad = PlanarPlacements{};
+  bad.max_shift = 1;
+  bad.shift_step = 1e-3;  // 2001^2 shifts
+  CHECK(error_of([&] { bad.validate(); }).find("use larger steps") != std::string::npos);
+}
+
+TEST_CASE("occupancy: where a pad felt nothing tells look-alikes apart that the pressed taxels cannot") {
+  OccupancyClassifier c;
+  c.fit(training(), 0);
+  REQUIRE(c.objects() == 2);
+  CHECK(c.placement_count() == 105);
+  // Tests on the overlap of the two tops, near the small box's long edges:
+  // every pressed taxel lies on both references, but the pads overhang the
+  // small box's edges where the large box's references were pressed.
+  const TouchSet small_test = pad_touches(kSmall, {{0.02, 0.0}, {-0.02, 0.0}, {0.0, 0.0}});
+  // Tests out where the large box continues and the small box's training
+  // pads felt nothing.
+  const TouchSet large_test = pad_touches(kLarge, {{0.04, 0.0}, {-0.035, 0.01}, {0.045, -0.02}});
+  Eigen::VectorXd d(2);
+  c.distances(small_test, d);
+  CHECK(d(0) < d(1));
+  c.distances(large_test, d);
+  CHECK(d(1) < d(0));
+  // Without the free points (gamma = 0) the small box's test, in place,
+  // sits on both references equally well: the pressed taxels alone cannot
+  // decide.
+  OccupancyClassifier blind;
+  blind.conflict_weight = 0;
+  blind.placements.max_shift = 0;  // both at the same placement
+  blind.placements.max_yaw = 0;
+  blind.fit(training(), 0);
+  blind.distances(small_test, d);
+  CHECK(d(0) == doctest::Approx(d(1)).epsilon(1e-9));
+}
+
+TEST_CASE("occupancy: a test re-placed within the placement bounds is found, beyond them it is not") {
+  OccupancyClassifier c;
+  c.fit(training(), 0);
+  OccupancyClassifier fixed;  // the identity placement only
+  fixed.placements.max_shift = 0;
+  fixed.placements.max_yaw = 0;
+  fixed.fit(training(), 0);
+  REQUIRE(fixed.placement_count() == 1);
+  const TouchSet test = pad_touches(kLarge, {{0.04, 0.0}, {-0.035, 0.01}, {0.0, -0.02}, {0.02, 0.02}});
+  Eigen::VectorXd d(2), e(2);
+  fixed.distances(test, e);
+  const double at_home = e(1);
+  // The large box put down again: moved by the inverse of the grid's
+  // placement (8 mm along x, 5 degrees about the references' centre, the
+  // origin). The grid maps the touches back exactly, so the distance is at
+  // most the one in place, up to rounding ...
+  const TouchSet away = moved(moved(test, Eigen::Vector2d(-0.008, 0.0), 0), Eigen::Vector2d::Zero(), -5 * kPi / 180);
+  c.distances(away, d);
+  CHECK(d(1) <= at_home * (1 + 1e-6) + 1e-15);
+  CHECK(d(1) < d(0));
+  // ... while without the search it is far larger.
+  fixed.distances(away, e);
+  CHECK(e(1) > 2 * at_home);
+  // 25 mm away is beyond the 10 mm prior: the contacts fall off the
+  // references and the distance grows.
+  Eigen::VectorXd far(2);
+  c.distances(moved(test, Eigen::Vector2d(0.0, 0.025), 0), far);
+  CHECK(far(1) > at_home + 1e-6);
+  // Truncation bounds a touch's cost: each contact point at most tau^2 plus
+  // one contradiction, each free point at most one contradiction.
+  const double tau2 = c.truncation * c.truncation;
+  const double bound = static_cast<double>(test.contact_points.cols()) * tau2 * (1 + c.conflict_weight) +
+                       static_cast<double>(test.free_points.cols()) * tau2 * c.conflict_weight;
+  CHECK(far(0) <= bound * (1 + 1e-6));
+  CHECK(far(1) <= bound * (1 + 1e-6));
+}
+
+TEST_CASE("occupancy: pool distances equal the distances of the subset, bit for bit") {
+  OccupancyClassifier c;
+  c.fit(training(), 0);
+  Rng rng(3);
+  std::vector<Eigen::Vector2d> centres;
+  for (int i = 0; i < 12; ++i) centres.emplace_back(rng.uniform(-0.05, 0.05), rng.uniform(-0.03, 0.03));
+  const TouchSet pool = pad_touches(kLarge, centres);
+  const auto prepared = c.prepare_pool(pool);
+  REQUIRE(prepared);
+  for (const std::vector<Index>& subset : {std::vector<Index>{3}, std::vector<Index>{0, 5, 2, 11},
+                                           std::vector<Index>{11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0}}) {
+    Eigen::VectorXd a(2), b(2), e(2);
+    c.pool_distances(pool, prepared.get(), subset, a);
+    c.distances(select_touches(pool, subset), b);
+    c.pool_distances(pool, nullptr, subset, e);
+    CHECK(a == b);
+    CHECK(e == b);
+  }
+  // A preparation is tied to its classifier's fit and pool.
+  Eigen::VectorXd d(2);
+  CHECK(error_of([&] { c.pool_distances(select_touches(pool, std::vector<Index>{0, 1}), prepared.get(), {0}, d); })
+            .find("prepared") != std::string::npos);
+  OccupancyClassifier other;
+  other.fit(training(), 0);
+  CHECK(error_of([&] { other.pool_distances(pool, prepared.get(), {0}, d); }).find("prepared") != std::string::npos);
+  CHECK(error_of([&] { c.pool_distances(pool, prepared.get(), {12}, d); }).find("subset") != std::string::npos);
+  c.fit(training(), 0);
+  CHECK(error_of([&] { c.pool_distances(pool, prepared.get(), {0}, d); }).find("prepared") != std::string::npos);
+}
+
+TEST_CASE("occupancy: CAD-like evidence (surface samples, no free points) recognises a touched box") {
+  // References sampled on each top face, as from a model: no free evidence.
+  std::vector<OccupancyEvidence> ev(2);
+  for (int b = 0; b < 2; ++b) {
+    const Box& box = b == 0 ? kSmall : kLarge;
+    std::vector<Eigen::Vector3d> pts;
+    for (double x = -box.length / 2; x <= box.length / 2 + 1e-12; x += 5e-4)
+      for (double y = -box.width / 2; y <= box.width / 2 + 1e-12; y += 5e-4) pts.emplace_back(x, y, box.height);
+    ev[static_cast<std::size_t>(b)].occupied.resize(3, static_cast<Index>(pts.size()));
+    for (std::size_t k = 0; k < pts.size(); ++k) ev[static_cast<std::size_t>(b)].occupied.col(static_cast<Index>(k)) = pts[k];
+  }
+  OccupancyClassifier c;
+  c.fit_evidence(ev);
+  Eigen::VectorXd d(2);
+  // A pad overhanging the small box's edge: its free taxels lie over the
+  // large box's top, a contradiction only for the large box.
+  c.distances(pad_touches(kSmall, {{0.03, 0.0}, {0.0, 0.02}}), d);
+  CHECK(d(0) < d(1));
+  c.distances(pad_touches(kLarge, {{0.045, 0.0}, {-0.04, 0.02}}), d);
+  CHECK(d(1) < d(0));
+}
+
+TEST_CASE("occupancy: bad settings, missing taxels and misuse are refused, naming them") {
+  OccupancyClassifier c;
+  Eigen::VectorXd d(2);
+  const TouchSet t = pad_touches(kSmall, {{0.0, 0.0}});
+  CHECK(error_of([&] { c.distances(t, d); }).find("distances: called before fit") != std::string::npos);
+  CHECK(error_of([&] { c.prepare_pool(t); }).find("prepare_pool: called before fit") != std::string::npos);
+  c.free_radius = 4e-3;  // above the truncation
+  CHECK(error_of([&] { c.fit(training(), 0); }).find("free_radius") != std::string::npos);
+  c = OccupancyClassifier{};
+  c.conflict_weight = -1;
+  CHECK(error_of([&] { c.fit(training(), 0); }).find("conflict_weight") != std::string::npos);
+  c = OccupancyClassifier{};
+  c.truncation = 0.1;  // 100 voxels
+  CHECK(error_of([&] { c.fit(training(), 0); }).find("settings.truncation") != std::string::npos);
+  c = OccupancyClassifier{};
+  c.placements.yaw_step = 0;
+  CHECK(error_of([&] { c.fit(training(), 0); }).find("placements.yaw_step") != std::string::npos);
+  c = OccupancyClassifier{};
+  CHECK(error_of([&] { c.fit({}, 0); }).find("objects") != std::string::npos);
+  std::vector<TouchSet> objects = training();
+  objects[1].free_offsets.clear();
+  objects[1].free_points.resize(3, 0);
+  CHECK(error_of([&] { c.fit(objects, 0); }).find("objects[1].free_points") != std::string::npos);
+  objects = training();
+  objects[0].contact_offsets.clear();
+  objects[0].contact_points.resize(3, 0);
+  CHECK(error_of([&] { c.fit(objects, 0); }).find("objects[0].contact_points") != std::string::npos);
+  CHECK(error_of([&] { c.fit_evidence({OccupancyEvidence{}}); }).find("objects[0].occupied") != std::string::npos);
+  c.fit(training(), 0);
+  TouchSet bare = t;
+  bare.free_offsets.clear();
+  bare.free_points.resize(3, 0);
+  CHECK(error_of([&] { c.distances(bare, d); }).find("test.free_points") != std::string::npos);
+  CHECK(error_of([&] { c.prepare_pool(bare); }).find("pool.free_points") != std::string::npos);
+  Eigen::VectorXd wrong(3);
+  CHECK(error_of([&] { c.distances(t, wrong); }).find("out") != std::string::npos);
+  // The settings of the last fit hold until the next one.
+  c.distances(t, d);
+  const Eigen::VectorXd before = d;
+  c.conflict_weight = 5;
+  c.distances(t, d);
+  CHECK(d == before);
+}

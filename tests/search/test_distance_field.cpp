@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: MIT
+// TruncatedDistanceField against brute force: exact at the nodes, within
+// the interpolation bound between them, truncated far away; its errors.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "iclap/core/random.hpp"
+#include "iclap/search/distance_field.hpp"
+
+using namespace iclap;
+
+namespace {
+
+/// min(min_p |q - p|^2, tau^2) by brute force.
+double exact(const Eigen::Matrix3Xd& points, const Eigen::Vector3d& q, double tau) {
+  double best = tau * tau;
+  for (Index c = 0; c < points.cols(); ++c) best = std::min(best, (points.col(c) - q).squaredNorm());
+  return best;
+}
+
+/// Random points in a box that straddles the origin, so that negative
+/// lattice indices and block boundaries on both sides are exercised.
+Eigen::Matrix3Xd random_points(Rng& rng, Index n, double half) {
+  Eigen::Matrix3Xd p(3, n);
+  for (Index c = 0; c < n; ++c)
+    for (Index r = 0; r < 3; ++r) p(r, c) = rng.uniform(-half, half);
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("distance field: exact at the lattice nodes, truncated beyond reach") {
+  Rng rng(7);
+  const Eigen::Matrix3Xd pts = random_points(rng, 60, 0.02);
+  const DistanceFieldSettings s{1e-3, 3e-3};
+  const TruncatedDistanceField f(pts, s);
+  CHECK(f.cap() == static_cast<float>(9e-6));
+  int checked = 0, inside = 0;
+  for (int i = -26; i <= 26; i += 1)
+    for (int j = -26; j <= 26; j += 3)
+      for (int k = -26; k <= 26; k += 2) {
+        const Eigen::Vector3d q = 1e-3 * Eigen::Vector3d(i, j, k);
+        const double e = exact(pts, q, 3e-3);
+        // At a node the stored value is the exact one (rounded to float).
+        CHECK(f.squared_distance(q) == doctest::Approx(e).epsilon(1e-6).scale(1e-12));
+        ++checked;
+        if (e < 9e-6) ++inside;
+      }
+  CHECK(checked > 10000);
+  CHECK(inside > 1000);  // the test saw both kinds of node
+}
+
+TEST_CASE("distance field: between nodes within the trilinear bound of the exact value") {
+  Rng rng(11);
+  const double h = 1e-3, tau = 3e-3;
+  const Eigen::Matrix3Xd pts = random_points(rng, 40, 0.015);
+  const TruncatedDistanceField f(pts, {h, tau});
+  double worst_over = 0;
+  for (int n = 0; n < 20000; ++n) {
+    const Eigen::Vector3d q(rng.uniform(-0.02, 0.02), rng.uniform(-0.02, 0.02), rng.uniform(-0.02, 0.02));
+    const double e = exact(pts, q, tau);
+    const double v = f.squared_distance(q);
+    // The interpolant of the closest point's |x - p|^2 exceeds it by at
+    // most 3/4 h^2, and the field is the interpolant of a minimum, so it is
+    // never above that bound (nor above the cap) ...
+    CHECK(v <= std::min(e + 0.75 * h * h, tau * tau) * (1 + 1e-6) + 1e-15);
+    worst_over = std::max(worst_over, v - e);
+    // ... and never negative.
+    CHECK(v >= 0);
+  }
+  CHECK(worst_over > 0.1 * h * h);  // the bound was approached, not vacuous
+  // On a point itself the value is the interpolation error alone.
+  for (Index c = 0; c < pts.cols(); ++c) CHECK(f.squared_distance(pts.col(c)) <= 0.75 * h * h * (1 + 1e-6));
+}
+
+TEST_CASE("distance field: far queries, NaN queries and no points give the cap") {
+  const Eigen::Matrix3Xd one = Eigen::Vector3d(0.1, -0.2, 0.05);
+  const TruncatedDistanceField f(one, {1e-3, 2e-3});
+  CHECK(f.squared_distance(Eigen::Vector3d(0.1, -0.2, 0.05)) == 0.0f);  // a node
+  CHECK(f.squared_distance(Eigen::Vector3d(0.1, -0.2, 0.0521)) == f.cap());
+  CHECK(f.squared_distance(Eigen::Vector3d(5, 5, 5)) == f.cap());
+  CHECK(f.squared_distance(Eigen::Vector3d(-1e30, 0, 0)) == f.cap());
+  CHECK(f.squared_distance(Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())) == f.cap());
+  const TruncatedDistanceField none(Eigen::Matrix3Xd(3, 0), {1e-3, 2e-3});
+  CHECK(none.cap() == static_cast<float>(4e-6));
+  CHECK(none.squared_distance(Eigen::Vector3d::Zero()) == none.cap());
+  CHECK(none.memory_bytes() == 0);
+  const TruncatedDistanceField empty;
+  CHECK(empty.squared_distance(Eigen::Vector3d::Zero()) == 0.0f);
+}
+
+TEST_CASE("distance field: memory follows the points' surface, not their bounding box") {
+  // A 30 cm square sheet at 1 mm voxels: the box is 0.3 x 0.3 x 0.01 m, the
+  // blocks only those within 3 mm of the sheet.
+  Eigen::Matrix3Xd sheet(3, 301 * 301);
+  for (int i = 0; i <= 300; ++i)
+    for (int j = 0; j <= 300; ++j) sheet.col(i * 301 + j) = Eigen::Vector3d(i * 1e-3, j * 1e-3, 0.0);
+  const TruncatedDistanceField f(sheet, {1e-3, 3e-3});
+  // Dense nodes over the box would be 301 x 301 x 7 floats; the blocks
+  // holding the band are at most two layers of 8 nodes thick.
+  CHECK(f.memory_bytes() < std::size_t{40 * 40 * 2 * 512 * 4 + 40 * 40 * 3 * 4});
+  CHECK(f.squared_distance(Eigen::Vector3d(0.15, 0.15, 0.002)) == doctest::Approx(4e-6).epsilon(1e-5));
+}
+
+TEST_CASE("distance field: settings and points out of range are refused, naming them") {
+  const Eigen::Matrix3Xd p = Eigen::Vector3d(0, 0, 0);
+  auto message = [&](const Eigen::Matrix3Xd& pts, DistanceFieldSettings s) -> std::string {
+    try {
+      TruncatedDistanceField f(pts, s, "evidence");
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "";
+  };
+  CHECK(message(p, {0.0, 3e-3}).find("settings.voxel") != std::string::npos);
+  CHECK(message(p, {std::numeric_limits<double>::quiet_NaN(), 3e-3}).find("settings.voxel") != std::string::npos);
+  CHECK(message(p, {1e-3, 0.0}).find("settings.truncation") != std::string::npos);
+  CHECK(message(p, {1e-3, 0.0641}).find("at most 64 voxels") != std::string::npos);
+  CHECK(message(p, {1e-3, 0.064}).empty());
+  Eigen::Matrix3Xd bad = p;
+  bad(1, 0) = std::numeric_limits<double>::infinity();
+  CHECK(message(bad, {}).find("evidence") != std::string::npos);
+  Eigen::Matrix3Xd far = p;
+  far(2, 0) = 2e5;  // millimetres taken for metres
+  const std::string m = message(far, {});
+  CHECK(m.find("evidence") != std::string::npos);
+  CHECK(m.find("beyond the field's range") != std::string::npos);
+  // Two points 5 km apart would need an index of 10^13 blocks.
+  Eigen::Matrix3Xd spread(3, 2);
+  spread << 0, 5000, 0, 5000, 0, 5000;
+  CHECK(message(spread, {}).find("use a larger voxel") != std::string::npos);
+  CHECK(message(spread, {100.0, 200.0}).empty());
+}
