@@ -63,6 +63,7 @@ std::unique_ptr<Classifier> make(const std::string& name) {
     c->contact_scale = 1;
     return c;
   }
+  if (name == "occupancy") return std::make_unique<OccupancyClassifier>();
   return std::make_unique<IclapNClassifier<72, float, Planar>>();
 }
 
@@ -211,6 +212,60 @@ void BM_HeightSearch(benchmark::State& state) {
   }
 }
 
+/// The occupancy classifier's distances taken from a pool it prepared once
+/// (every touch's cost under every placement, Classifier::prepare_pool),
+/// the path of the cross validation, against the same tests' distances
+/// computed directly (BM_Recognition/occupancy adds the fusion and the
+/// decision to the latter).
+void BM_OccupancyPool(benchmark::State& state) {
+  const Scene& s = scene();
+  OccupancyClassifier c;
+  c.fit(s.objects, s.k);
+  const auto prepared = c.prepare_pool(s.all);
+  Eigen::VectorXd d(static_cast<Index>(s.objects.size()));
+  std::size_t i = 0;
+  for (auto _ : state) {
+    c.pool_distances(s.all, prepared.get(), s.test_rows[i++ % s.test_rows.size()], d);
+    benchmark::DoNotOptimize(d.data());
+  }
+}
+
+/// What the occupancy classifier's fields answer, the truncated squared
+/// distance from a test contact point to an object's training contact
+/// points, by the field (range 0) and by a kd-tree nearest-neighbour query
+/// (range 1; the answer then truncated): every contact point of one test
+/// against every object per iteration.
+void BM_OccupancyLookup(benchmark::State& state) {
+  const Scene& s = scene();
+  const bool tree = state.range(0) == 1;
+  const double tau = 3e-3;
+  std::vector<TruncatedDistanceField> fields;
+  std::vector<KdTreeSearch<double, 3>> trees;
+  for (const auto& o : s.objects) {
+    if (tree) trees.emplace_back(o.contact_points);
+    else fields.emplace_back(o.contact_points, DistanceFieldSettings{1e-3, tau});
+  }
+  std::size_t i = 0;
+  std::int64_t queries = 0;
+  for (auto _ : state) {
+    const TouchSet& t = s.tests[i++ % s.tests.size()];
+    double e = 0;
+    for (std::size_t j = 0; j < s.objects.size(); ++j)
+      for (Index k = 0; k < t.contact_points.cols(); ++k) {
+        const Eigen::Vector3d q = t.contact_points.col(k);
+        e += tree ? std::min(tau * tau, trees[j].nearest(q.data()).squared_distance)
+                  : static_cast<double>(fields[j].squared_distance(q));
+      }
+    benchmark::DoNotOptimize(e);
+    queries += static_cast<std::int64_t>(s.objects.size()) * t.contact_points.cols();
+  }
+  state.SetItemsProcessed(queries);
+}
+
+BENCHMARK_CAPTURE(BM_Recognition, occupancy, std::string("occupancy"));
+BENCHMARK_CAPTURE(BM_Recognition, occupancy_plus_height_contact, std::string("0.5*occupancy+0.5*height_contact"));
+BENCHMARK(BM_OccupancyPool);
+BENCHMARK(BM_OccupancyLookup)->Arg(0)->Arg(1)->ArgName("kdtree");
 BENCHMARK_CAPTURE(BM_Recognition, height, std::string("height"));
 BENCHMARK_CAPTURE(BM_Recognition, height_contact, std::string("height_contact"));
 BENCHMARK_TEMPLATE(BM_HeightSearch, 2);

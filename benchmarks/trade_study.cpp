@@ -183,6 +183,35 @@ std::vector<Setting> grid() {
   };
   s.push_back({"no registration", "height and tilt, 1 cm/rad", "sift", 50, height(0)});
   s.push_back({"no registration", "height, tilt and contact extents", "sift", 50, height(1)});
+  // Where the pad felt the object and where it did not (beyond the paper):
+  // the occupancy classifier with its defaults, a finer and a coarser
+  // placement grid, no placement search, and without the free points.
+  auto occupancy = [](auto tweak) {
+    return [tweak] {
+      auto c = std::make_unique<OccupancyClassifier>();
+      tweak(*c);
+      return std::unique_ptr<Classifier>(std::move(c));
+    };
+  };
+  constexpr double kDeg = 3.14159265358979323846 / 180;
+  s.push_back({"occupancy", "occupancy (105 placements: 4 mm, 5 deg)", "sift", 50,
+               occupancy([](OccupancyClassifier&) {})});
+  s.push_back({"occupancy", "occupancy, 873 placements (2 mm, 2.5 deg)", "sift", 50,
+               occupancy([kDeg](OccupancyClassifier& c) {
+                 c.placements.shift_step = 2e-3;
+                 c.placements.yaw_step = 2.5 * kDeg;
+               })});
+  s.push_back({"occupancy", "occupancy, 15 placements (5 mm, 10 deg)", "sift", 50,
+               occupancy([kDeg](OccupancyClassifier& c) {
+                 c.placements.shift_step = 5e-3;
+                 c.placements.yaw_step = 10 * kDeg;
+               })});
+  s.push_back({"occupancy", "occupancy, no placement search", "sift", 50, occupancy([](OccupancyClassifier& c) {
+                 c.placements.max_shift = 0;
+                 c.placements.max_yaw = 0;
+               })});
+  s.push_back({"occupancy", "occupancy, no free points (conflict 0)", "sift", 50,
+               occupancy([](OccupancyClassifier& c) { c.conflict_weight = 0; })});
   // Fusion (beyond the paper): either with trimmed patch ICP, the weights
   // chosen on the training folds (0 allowed); the time is both classifiers'
   // distances.
@@ -192,6 +221,9 @@ std::vector<Setting> grid() {
       s.push_back({"fusion", name + op + "patch ICP 50%", "sift", 50, height(contact_scale), patch(8, 0.002, 50, 0.5f),
                    name + op + "patch"});
     }
+  for (const char* op : {"+", "*"})
+    s.push_back({"fusion", std::string("occupancy") + op + "height_contact", "sift", 50,
+                 occupancy([](OccupancyClassifier&) {}), height(1), std::string("occupancy") + op + "height_contact"});
   return s;
 }
 

@@ -71,6 +71,12 @@ TEST_CASE("distance field: between nodes within the trilinear bound of the exact
     CHECK(v >= 0);
   }
   CHECK(worst_over > 0.1 * h * h);  // the bound was approached, not vacuous
+  // The nearest-node read gives the exact value at the closest node.
+  for (int n = 0; n < 2000; ++n) {
+    const Eigen::Vector3d q(rng.uniform(-0.02, 0.02), rng.uniform(-0.02, 0.02), rng.uniform(-0.02, 0.02));
+    const Eigen::Vector3d node = h * (q / h).array().round().matrix();
+    CHECK(f.node_squared_distance(q) == doctest::Approx(exact(pts, node, tau)).epsilon(1e-6).scale(1e-12));
+  }
   // On a point itself the value is the interpolation error alone.
   for (Index c = 0; c < pts.cols(); ++c) CHECK(f.squared_distance(pts.col(c)) <= 0.75 * h * h * (1 + 1e-6));
 }
@@ -83,9 +89,13 @@ TEST_CASE("distance field: far queries, NaN queries and no points give the cap")
   CHECK(f.squared_distance(Eigen::Vector3d(5, 5, 5)) == f.cap());
   CHECK(f.squared_distance(Eigen::Vector3d(-1e30, 0, 0)) == f.cap());
   CHECK(f.squared_distance(Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())) == f.cap());
+  CHECK(f.node_squared_distance(Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())) == f.cap());
+  CHECK(f.node_squared_distance(Eigen::Vector3d(-1e30, 0, 0)) == f.cap());
+  CHECK(f.node_squared_distance(Eigen::Vector3d(0.1004, -0.2003, 0.0502)) == 0.0f);
   const TruncatedDistanceField none(Eigen::Matrix3Xd(3, 0), {1e-3, 2e-3});
   CHECK(none.cap() == static_cast<float>(4e-6));
   CHECK(none.squared_distance(Eigen::Vector3d::Zero()) == none.cap());
+  CHECK(none.node_squared_distance(Eigen::Vector3d::Zero()) == none.cap());
   CHECK(none.memory_bytes() == 0);
   const TruncatedDistanceField empty;
   CHECK(empty.squared_distance(Eigen::Vector3d::Zero()) == 0.0f);

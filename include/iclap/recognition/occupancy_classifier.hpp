@@ -99,6 +99,8 @@ struct OccupancyEvidence {
 ///                + gamma tau^2 [D_free(g p) < min(D_occ(g p), rho)]
 ///          + sum over its free points u of  gamma tau^2 [D_occ(g u) < min(D_free(g u), rho)]
 ///
+/// (the fields interpolated trilinearly, except in the free points' test,
+/// which reads the nearest lattice node)
 /// and the distance of a test to the object is E = min_g sum_i c_i(g).
 /// The first term is the paper's point-to-point error (Section IV, E_ICP)
 /// with every pressed taxel as a point, truncated so that a touch on
@@ -302,11 +304,15 @@ class OccupancyClassifier final : public Classifier {
           }
         }
         if (conflicts) {
+          // The free points, five times as many as the contact points on a
+          // typical touch, are tested at the nearest lattice node (one read
+          // instead of eight): 1.8x faster distances, and no change of the
+          // recognition rates beyond their noise (README).
           const Index f0 = s.free_offsets[static_cast<std::size_t>(i)], f1 = s.free_offsets[static_cast<std::size_t>(i) + 1];
           for (Index k = f0; k < f1; ++k) {
             const Eigen::Vector3d q = place(s.free_points.col(k));
-            const float dn = r.occupied.squared_distance(q);
-            if (dn < rho2 && dn < r.free.squared_distance(q)) c += penalty;
+            const float dn = r.occupied.node_squared_distance(q);
+            if (dn < rho2 && dn < r.free.node_squared_distance(q)) c += penalty;
           }
         }
         costs[static_cast<std::size_t>(g * n + i)] = c;

@@ -12,6 +12,7 @@
 #include "iclap/recognition/fusion.hpp"
 #include "iclap/recognition/methods.hpp"
 #include "iclap/recognition/normalization.hpp"
+#include "iclap/recognition/occupancy_classifier.hpp"
 #include "iclap/recognition/height_classifier.hpp"
 #include "iclap/recognition/recognizer.hpp"
 #include "iclap/recognition/registration_classifier.hpp"

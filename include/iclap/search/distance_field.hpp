@@ -153,6 +153,21 @@ class TruncatedDistanceField {
   /// Bytes held by the blocks and their index.
   std::size_t memory_bytes() const noexcept { return blocks_.size() * sizeof(float) + index_.size() * sizeof(std::int32_t); }
 
+  /// The value at the lattice node closest to `p` (no interpolation: one
+  /// memory read, for threshold tests that need no smooth value); cap()
+  /// beyond the points' reach, including NaN.
+  float node_squared_distance(const Eigen::Vector3d& p) const {
+    if (index_.empty()) return cap_;
+    const double inv = 1.0 / voxel_;
+    const double gx = std::round(p.x() * inv), gy = std::round(p.y() * inv), gz = std::round(p.z() * inv);
+    const double lx = static_cast<double>(block_lo_.x()) * kBlock, ly = static_cast<double>(block_lo_.y()) * kBlock,
+                 lz = static_cast<double>(block_lo_.z()) * kBlock;
+    if (!(gx >= lx && gy >= ly && gz >= lz && gx < lx + block_n_.x() * kBlock && gy < ly + block_n_.y() * kBlock &&
+          gz < lz + block_n_.z() * kBlock))
+      return cap_;
+    return node_value(static_cast<int>(gx), static_cast<int>(gy), static_cast<int>(gz));
+  }
+
   /// The interpolated truncated squared distance at `p` (metres); cap() for
   /// a query beyond the points' reach, including NaN.
   float squared_distance(const Eigen::Vector3d& p) const {

@@ -15,8 +15,11 @@
 /// `AdaptiveSearch` is brute force on small clouds and a kd-tree on the
 /// others (the default of `ReferenceCloud` and of the recognition
 /// classifiers). `KdTreeSearch` and `BruteForceSearch` keep their points in
-/// one immutable block that copies share.
+/// one immutable block that copies share. `TruncatedDistanceField` is not a
+/// search policy: it answers "how far, up to a cut-off" (not "which point")
+/// in constant time, for the occupancy classifier.
 #include "iclap/search/adaptive.hpp"
 #include "iclap/search/brute_force.hpp"
+#include "iclap/search/distance_field.hpp"
 #include "iclap/search/kdtree.hpp"
 #include "iclap/search/neighbor.hpp"
