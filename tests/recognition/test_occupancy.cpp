@@ -257,6 +257,36 @@ TEST_CASE("occupancy: a test re-placed within the placement bounds is found, bey
   CHECK(far(1) <= bound * (1 + 1e-6));
 }
 
+TEST_CASE("occupancy: placements turn about the given centre") {
+  const std::vector<TouchSet> objects = training();
+  std::vector<OccupancyEvidence> ev(2);
+  for (std::size_t j = 0; j < 2; ++j) {
+    ev[j].occupied = objects[j].contact_points;
+    ev[j].free = objects[j].free_points;
+  }
+  // The large box's turn axis at its corner (0.05, 0.03) instead of its centre.
+  ev[1].turn_centre = Eigen::Vector2d(0.05, 0.03);
+  OccupancyClassifier fixed, c;
+  fixed.placements.max_shift = 0;
+  fixed.placements.max_yaw = 0;
+  fixed.fit_evidence(ev);
+  c.fit_evidence(ev);
+  const TouchSet test = pad_touches(kLarge, {{0.04, 0.0}, {-0.035, 0.01}, {0.0, -0.02}, {0.02, 0.02}});
+  Eigen::VectorXd d(2), e(2);
+  fixed.distances(test, e);
+  // Turned by -10 degrees about that corner: the grid's 10 degree turn about
+  // it brings the touches back exactly.
+  const Eigen::Vector2d corner(0.05, 0.03);
+  const TouchSet turned =
+      moved(moved(moved(test, -corner, 0), Eigen::Vector2d::Zero(), -10 * kPi / 180), corner, 0);
+  c.distances(turned, d);
+  CHECK(d(1) <= e(1) * (1 + 1e-6) + 1e-15);
+  fixed.distances(turned, e);
+  CHECK(e(1) > 2 * d(1));
+  ev[0].turn_centre = Eigen::Vector2d(std::numeric_limits<double>::quiet_NaN(), 0);
+  CHECK(error_of([&] { c.fit_evidence(ev); }).find("objects[0].turn_centre") != std::string::npos);
+}
+
 TEST_CASE("occupancy: pool distances equal the distances of the subset, bit for bit") {
   OccupancyClassifier c;
   c.fit(training(), 0);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -76,12 +77,18 @@ struct PlanarPlacements {
 
 /// What is known of one object's surface: points where it was felt
 /// (`occupied`, e.g. the contact points of its training touches, or points
-/// sampled on a CAD model) and points where a pad was and it was not
-/// (`free`, the taxels of those touches that felt nothing; may be empty).
-/// Metres, in the table frame of the references.
+/// sampled on a CAD model, sample_surface) and points where a pad was and it
+/// was not (`free`, the taxels of those touches that felt nothing; may be
+/// empty). Metres, in the table frame of the references. `turn_centre` is
+/// the vertical axis (x, y) the placements turn the object about; without
+/// it, the centroid of the occupied points, about which a turn moves the
+/// known surface least. (For the training touches of the built-in objects
+/// the centroid gave 72.8% at 20 touches, the centre of their bounding box
+/// 69.6%; a CAD model that the scene turns about its origin wants that.)
 struct OccupancyEvidence {
   Eigen::Matrix3Xd occupied;
   Eigen::Matrix3Xd free;
+  std::optional<Eigen::Vector2d> turn_centre;
 };
 
 /// Recognition from where the pad felt the object and where it did not
@@ -93,7 +100,7 @@ struct OccupancyEvidence {
 /// point (truncated at tau = `truncation`) and D_free to the closest free
 /// point (truncated at rho = `free_radius`). A test touch i is scored under
 /// a planar placement g of the object (PlanarPlacements, turning about the
-/// centre of the object's occupied points) as
+/// centroid of the object's occupied points) as
 ///
 ///   c_i(g) = sum over its contact points p of  min(D_occ(g p)^2, tau^2)
 ///                + gamma tau^2 [D_free(g p) < min(D_occ(g p), rho)]
@@ -151,7 +158,8 @@ class OccupancyClassifier final : public Classifier {
   }
 
   /// The references from training touches: object j's contact points are
-  /// its occupied evidence and its free points its free evidence. Throws
+  /// its occupied evidence and its free points its free evidence (turning
+  /// about the centroid of the contact points). Throws
   /// EmptyInput naming "objects" for none, "objects[j].contact_points" /
   /// "objects[j].free_points" for an object without them (touches without
   /// the pad orientation), and what fit_evidence throws.
@@ -170,8 +178,9 @@ class OccupancyClassifier final : public Classifier {
   /// The references from any evidence (e.g. surfaces sampled from CAD
   /// models, with no free points). Throws what validate() throws, EmptyInput
   /// naming "objects" for none or "objects[j].occupied" for an object with
-  /// no occupied point, and what TruncatedDistanceField throws (naming
-  /// "objects[j].occupied" / ".free").
+  /// no occupied point, NonFiniteValue naming "objects[j].turn_centre", and
+  /// what TruncatedDistanceField throws (naming "objects[j].occupied" /
+  /// ".free").
   void fit_evidence(const std::vector<OccupancyEvidence>& objects) {
     validate();
     if (objects.empty()) throw EmptyInput("objects", "no object to recognise");
@@ -183,7 +192,12 @@ class OccupancyClassifier final : public Classifier {
       Reference r;
       r.occupied = TruncatedDistanceField(objects[j].occupied, {voxel, truncation}, arg + ".occupied");
       r.free = TruncatedDistanceField(objects[j].free, {voxel, free_radius}, arg + ".free");
-      r.centre = objects[j].occupied.rowwise().mean().head<2>();
+      if (objects[j].turn_centre) {
+        check_finite(*objects[j].turn_centre, arg + ".turn_centre");
+        r.centre = *objects[j].turn_centre;
+      } else {
+        r.centre = objects[j].occupied.topRows<2>().rowwise().mean();
+      }
       refs.push_back(std::move(r));
     }
     grid_ = placements.grid("placements");
