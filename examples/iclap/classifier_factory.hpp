@@ -11,6 +11,7 @@
 
 #include "iclap/recognition/bow_classifier.hpp"
 #include "iclap/recognition/height_classifier.hpp"
+#include "iclap/recognition/occupancy_classifier.hpp"
 #include "iclap/recognition/registration_classifier.hpp"
 #include "recognition_setup.hpp"
 
@@ -89,6 +90,10 @@ std::vector<std::unique_ptr<Classifier>> make_classifiers_for(const RecognitionO
       auto c = std::make_unique<HeightClassifier>();
       c->tilt_scale = o.tilt_scale;
       if (name == "height_contact") c->contact_scale = o.contact_scale;
+      out.push_back(std::move(c));
+    } else if (name == "occupancy" && name == label) {
+      auto c = std::make_unique<OccupancyClassifier>();
+      o.configure_occupancy(*c);
       out.push_back(std::move(c));
     } else if (is_registration_classifier(name)) {
       out.push_back(make_with_search<Scalar, AdaptiveSearch>(name, label, o));

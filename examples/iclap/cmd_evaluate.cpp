@@ -63,8 +63,12 @@ const std::string kUsage = std::string(
     "                          patch, iclap_patch (contact-patch ICP, beyond the paper),\n"
     "                          iclap_patch+patch+bow, iclap_patch*patch*bow, height\n"
     "                          (heights and tilts of the touches, no registration, beyond\n"
-    "                          the paper) and height_contact (height with the size of\n"
-    "                          each contact patch)).\n"
+    "                          the paper), height_contact (height with the size of\n"
+    "                          each contact patch) and occupancy (where the pad felt the\n"
+    "                          object and where it did not, with a bounded search of the\n"
+    "                          object's placement, beyond the paper; needs the pad\n"
+    "                          orientation, columns qw..qz; options --occupancy-*,\n"
+    "                          --placement-*)).\n"
     "                          '+' sums with fitted weights, '*' products, or fixed\n"
     "                          weights such as 0.6*iclap+0.2*icp+0.2*bow\n"
     "  --repeats N             random draws per object and number of touches (default 10)\n"
@@ -109,7 +113,8 @@ std::vector<Method> parse_methods(const std::string& text) {
   if (text == "paper") return out;
   if (text == "all") {
     for (const char* m :
-         {"iclapn", "patch", "iclap_patch", "iclap_patch+patch+bow", "iclap_patch*patch*bow", "height", "height_contact"})
+         {"iclapn", "patch", "iclap_patch", "iclap_patch+patch+bow", "iclap_patch*patch*bow", "height", "height_contact",
+          "occupancy"})
       out.push_back(parse_method(m));
     return out;
   }
@@ -659,6 +664,8 @@ int run_evaluate(const Args& args) {
   if (std::find(needed.begin(), needed.end(), "height") != needed.end()) std::printf("height: tilt scale %g m/rad\n\n", ro.tilt_scale);
   if (std::find(needed.begin(), needed.end(), "height_contact") != needed.end())
     std::printf("height_contact: tilt scale %g m/rad, contact scale %g m/m\n\n", ro.tilt_scale, ro.contact_scale);
+  if (std::find(needed.begin(), needed.end(), "occupancy") != needed.end())
+    std::printf("occupancy: %s\n\n", ro.occupancy_summary().c_str());
   std::fflush(stdout);
   CrossValidationResult r;
   {

@@ -21,6 +21,7 @@
 #include "iclap/data/dataset.hpp"
 #include "iclap/recognition/classifier.hpp"
 #include "iclap/recognition/methods.hpp"
+#include "iclap/recognition/occupancy_classifier.hpp"
 #include "iclap/recognition/touch_table.hpp"
 #include "iclap/tactile/kmeans.hpp"
 
@@ -69,6 +70,16 @@ struct RecognitionOptions {
   double contact_threshold = kDefaultContactThreshold;
   Index patch_points = 8;            ///< contact points per test touch (patch classifiers)
   double patch_voxel = 0.002;        ///< reference voxel, metres (patch classifiers)
+  // The occupancy classifier (OccupancyClassifier's members, metres /
+  // radians; configure_occupancy).
+  double occupancy_voxel = 1e-3;
+  double occupancy_truncation = 3e-3;
+  double occupancy_free_radius = 2e-3;
+  double occupancy_conflict = 0.3;
+  double placement_shift = 10e-3;
+  double placement_yaw = 10.0 * 3.14159265358979323846 / 180;
+  double placement_shift_step = 4e-3;
+  double placement_yaw_step = 5.0 * 3.14159265358979323846 / 180;
 
   /// The trimmed fraction of classifier `name` (or of a trim variant, whose
   /// name says it).
@@ -164,7 +175,8 @@ struct RecognitionOptions {
   static std::set<std::string> value_options() {
     return {"descriptor", "transform", "scalar", "search", "k", "label-scale", "descriptor-scale",
             "tilt-scale", "contact-scale", "max-iterations", "relative-tolerance", "trim", "trim-choices", "contact-threshold", "patch-points",
-            "patch-voxel"};
+            "patch-voxel", "occupancy-voxel", "occupancy-truncation", "occupancy-free-radius", "occupancy-conflict",
+            "placement-shift", "placement-yaw-deg", "placement-shift-step", "placement-yaw-step-deg"};
   }
   /// Usage lines of those options.
   static const char* usage() {
@@ -196,7 +208,22 @@ struct RecognitionOptions {
            "  --trim-choices LIST     fractions --trim auto chooses from (default 1,0.7,0.5,0.3)\n"
            "  --contact-threshold P   a frame is a touch when a taxel exceeds P raw units\n"
            "  --patch-points N        contact points per test touch for patch, iclap_patch (default 8)\n"
-           "  --patch-voxel V         reference voxel for patch, iclap_patch, metres (default 0.002)\n";
+           "  --patch-voxel V         reference voxel for patch, iclap_patch, metres (default 0.002)\n"
+           "  --occupancy-voxel M     lattice spacing of occupancy's distance fields, metres, in\n"
+           "                          [0.00025, 0.1] (default 0.001; memory grows up to as 1/M^3)\n"
+           "  --occupancy-truncation M  largest distance occupancy charges a contact point,\n"
+           "                          metres, in (0, 1] and at most 64 voxels (default 0.003)\n"
+           "  --occupancy-free-radius M  how close felt and unfelt evidence must be to\n"
+           "                          contradict, metres, > 0 and <= the truncation (default 0.002)\n"
+           "  --occupancy-conflict G  cost of a contradiction in units of the truncation squared,\n"
+           "                          in [0, 1e6] (default 0.3; 0 ignores where the pad felt nothing)\n"
+           "  --placement-shift M     occupancy searches the object's placement within M metres,\n"
+           "                          in [0, 1] (default 0.01: the simulator's re-placement)\n"
+           "  --placement-yaw-deg D   ... and within +-D degrees about the vertical, in [0, 180]\n"
+           "                          (default 10)\n"
+           "  --placement-shift-step M  shift lattice spacing, metres, in (0, 1] (default 0.004)\n"
+           "  --placement-yaw-step-deg D  turn step, degrees, in (0, 180] (default 5); the grid\n"
+           "                          may hold at most 1e5 placements\n";
   }
   /// The largest value of a scale option (--label-scale, --descriptor-scale,
   /// --tilt-scale, --contact-scale), metres per unit: 1e6, a thousand
@@ -251,6 +278,117 @@ struct RecognitionOptions {
     contact_threshold = o.number("contact-threshold", contact_threshold, 0.0);
     patch_points = static_cast<Index>(o.integer("patch-points", patch_points, 1, 84 * 100));
     patch_voxel = o.number("patch-voxel", patch_voxel, 0.0, 1.0);
+    parse_occupancy(o);
+  }
+
+  /// The value of option `name` (or `fallback`) within [min, max], `min`
+  /// itself excluded when `open_min`; UsageError naming the option, the
+  /// range (in `unit`, e.g. "metres"; empty for a pure number) and the
+  /// value as given otherwise (so that 180.0000001 does not read as 180).
+  static double bounded_option(const Options& o, const std::string& name, double fallback, double min, bool open_min,
+                               double max, const std::string& unit = "") {
+    const double v = o.number(name, fallback);
+    if (!((open_min ? v > min : v >= min) && v <= max))
+      throw UsageError("--" + name + " must be " + (open_min ? "> " : ">= ") + format_value(min) + " and <= " +
+                       format_value(max) + (unit.empty() ? "" : " " + unit) + ", got " +
+                       (o.has(name) ? o.string(name) : format_value(v)));
+    return v;
+  }
+
+  /// Radians from degrees (180 gives pi exactly, which
+  /// PlanarPlacements::max_yaw allows).
+  static double radians(double degrees) { return degrees / 180 * 3.14159265358979323846; }
+  static double degrees(double radians) { return radians / 3.14159265358979323846 * 180; }
+
+  /// The occupancy options. Each is bounded on its own first, in the units
+  /// the user gives. The voxel's lower bound, 0.25 mm (a fourteenth of the
+  /// WTS taxel pitch), is where a finer lattice stops paying: the fields'
+  /// interpolation error (at most 3/4 voxel^2, 0.05 mm^2 there) is already
+  /// far below the truncation^2 (9 mm^2 by default), while their memory
+  /// grows up to as 1/voxel^3 (`iclap evaluate` of the 4 objects of
+  /// tests/fixtures/live: 10 MB at 1 mm, 43 MB at 0.25 mm, 335 MB at 0.1 mm,
+  /// so gigabytes for 20 objects of 85 frames per exploration) and
+  /// the box a field can index shrinks as voxel^3 (0.8 m across at 0.25 mm,
+  /// 0.3 m at 0.1 mm: TruncatedDistanceField::kMaxIndexBlocks), which would
+  /// refuse a large object in the middle of a run. The other upper bounds
+  /// (1 m, a conflict of 1e6 truncations squared) lie far beyond use and
+  /// keep the sums finite. The combinations (truncation at most 64 voxels,
+  /// free radius at most the truncation, at most 1e5 placements) are the
+  /// library's: OccupancyClassifier::validate decides them here, before any
+  /// run, and its error is given back naming the options and their values.
+  void parse_occupancy(const Options& o) {
+    occupancy_voxel = bounded_option(o, "occupancy-voxel", occupancy_voxel, 2.5e-4, false, 0.1, "metres");
+    occupancy_truncation = bounded_option(o, "occupancy-truncation", occupancy_truncation, 0, true, 1, "metres");
+    occupancy_free_radius = bounded_option(o, "occupancy-free-radius", occupancy_free_radius, 0, true, 1, "metres");
+    occupancy_conflict = bounded_option(o, "occupancy-conflict", occupancy_conflict, 0, false, 1e6);
+    placement_shift = bounded_option(o, "placement-shift", placement_shift, 0, false, 1, "metres");
+    placement_shift_step = bounded_option(o, "placement-shift-step", placement_shift_step, 0, true, 1, "metres");
+    if (o.has("placement-yaw-deg"))
+      placement_yaw = radians(bounded_option(o, "placement-yaw-deg", 0, 0, false, 180, "degrees"));
+    if (o.has("placement-yaw-step-deg"))
+      placement_yaw_step = radians(bounded_option(o, "placement-yaw-step-deg", 0, 0, true, 180, "degrees"));
+
+    OccupancyClassifier probe;
+    configure_occupancy(probe);
+    try {
+      probe.validate();
+    } catch (const InvalidArgument& e) {
+      // The option (and its value as given) behind each setting the library
+      // names; the first is the one at fault, the others what it is
+      // measured against.
+      auto given = [&](const std::string& name, double value) {
+        return "--" + name + " " + (o.has(name) ? o.string(name) : format_value(value));
+      };
+      const std::string voxel = given("occupancy-voxel", occupancy_voxel);
+      const std::string truncation = given("occupancy-truncation", occupancy_truncation);
+      const std::string free_radius = given("occupancy-free-radius", occupancy_free_radius);
+      const std::string conflict = given("occupancy-conflict", occupancy_conflict);
+      const std::string grid = given("placement-shift", placement_shift) + ", " +
+                               given("placement-shift-step", placement_shift_step) + ", " +
+                               given("placement-yaw-deg", degrees(placement_yaw)) + " and " +
+                               given("placement-yaw-step-deg", degrees(placement_yaw_step));
+      const std::string& a = e.argument();
+      if (a == "settings.voxel") throw UsageError(voxel + ": " + e.reason());
+      if (a == "settings.truncation") throw UsageError(truncation + " with " + voxel + ": " + e.reason());
+      if (a == "free_radius") throw UsageError(free_radius + " with " + truncation + ": " + e.reason());
+      if (a == "conflict_weight") throw UsageError(conflict + ": " + e.reason());
+      if (a == "placements") throw UsageError(grid + ": " + e.reason());
+      // A setting the bounds above already keep in range (e.g.
+      // "placements.max_yaw", in radians): every option, and the library's
+      // own words.
+      throw UsageError(voxel + ", " + truncation + ", " + free_radius + ", " + conflict + ", " + grid + ": " + e.what());
+    }
+  }
+
+  /// Sets `c` as the occupancy options ask (the classifier's settings only;
+  /// its name is left as it is).
+  void configure_occupancy(OccupancyClassifier& c) const {
+    c.voxel = occupancy_voxel;
+    c.truncation = occupancy_truncation;
+    c.free_radius = occupancy_free_radius;
+    c.conflict_weight = occupancy_conflict;
+    c.placements.max_shift = placement_shift;
+    c.placements.shift_step = placement_shift_step;
+    c.placements.max_yaw = placement_yaw;
+    c.placements.yaw_step = placement_yaw_step;
+  }
+
+  /// The occupancy settings as the reports print them: "voxel 0.001 m,
+  /// truncation 0.003 m, free radius 0.002 m, conflict 0.3; placements
+  /// within 0.01 m and 10 deg in steps of 0.004 m and 5 deg (105)", the
+  /// last the number of placements searched. The options must be valid
+  /// (parse checked them).
+  std::string occupancy_summary() const {
+    OccupancyClassifier c;
+    configure_occupancy(c);
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "voxel %g m, truncation %g m, free radius %g m, conflict %g; placements within %g m and %g deg in "
+                  "steps of %g m and %g deg (%ld)",
+                  occupancy_voxel, occupancy_truncation, occupancy_free_radius, occupancy_conflict, placement_shift,
+                  degrees(placement_yaw), placement_shift_step, degrees(placement_yaw_step),
+                  static_cast<long>(c.placements.grid().cols()));
+    return buf;
   }
 
   /// "--trim": "F" for every registration classifier, "NAME=F" for one;
@@ -291,8 +429,8 @@ struct RecognitionOptions {
   }
 };
 
-/// The classifiers named in `names` ("bow", "height", "height_contact", "icp", "iclap", "iclapn",
-/// "patch", "iclap_patch"),
+/// The classifiers named in `names` ("bow", "height", "height_contact", "occupancy", "icp", "iclap",
+/// "iclapn", "patch", "iclap_patch"),
 /// configured by `options`. Throws UsageError for an unknown name.
 std::vector<std::unique_ptr<Classifier>> make_classifiers(const RecognitionOptions& options,
                                                           const std::vector<std::string>& names);
@@ -300,7 +438,7 @@ std::vector<std::unique_ptr<Classifier>> make_classifiers(const RecognitionOptio
 /// Every classifier name the commands know, in the order they are built.
 inline const std::vector<std::string>& known_classifiers() {
   static const std::vector<std::string> names = [] {
-    std::vector<std::string> n = {"bow", "height", "height_contact"};
+    std::vector<std::string> n = {"bow", "height", "height_contact", "occupancy"};
     for (const auto& r : registration_classifiers()) n.push_back(r);
     return n;
   }();
@@ -333,24 +471,25 @@ inline std::vector<std::string> needed_classifiers(const std::vector<Method>& me
 inline bool is_height_classifier(const std::string& name) { return name == "height" || name == "height_contact"; }
 
 /// The classifiers among `needed` that read the pad orientation: the height
-/// classifiers (the pad normals, and height_contact the contact points) and
-/// the patch classifiers (the contact points).
+/// classifiers (the pad normals, and height_contact the contact points), the
+/// patch classifiers (the contact points) and occupancy (the contact and the
+/// free points).
 inline std::vector<std::string> orientation_classifiers(const std::vector<std::string>& needed) {
   std::vector<std::string> out;
   for (const auto& c : needed)
-    if (is_height_classifier(c) || c == "patch" || c == "iclap_patch") out.push_back(c);
+    if (is_height_classifier(c) || c == "patch" || c == "iclap_patch" || c == "occupancy") out.push_back(c);
   return out;
 }
 
 /// Throws InvalidArgument naming `origin` when a classifier among `needed`
 /// needs the pad orientation that the touches of `table` lack. The height
-/// classifiers need it on every contact frame, the patch classifiers on
-/// some, or on every one with `every_frame` (live sessions carry it on every
-/// touch or none).
+/// and occupancy classifiers need it on every contact frame, the patch
+/// classifiers on some, or on every one with `every_frame` (live sessions
+/// carry it on every touch or none).
 inline void check_orientation(const std::vector<std::string>& needed, const TouchTable& table,
                               const std::string& origin, bool every_frame = false) {
   for (const auto& c : orientation_classifiers(needed)) {
-    const bool every = every_frame || is_height_classifier(c);
+    const bool every = every_frame || is_height_classifier(c) || c == "occupancy";
     if (!(every ? table.touches.has_normals() : table.touches.has_contacts()))
       throw InvalidArgument(origin, "the " + c + " classifier needs the pad orientation (columns qw, qx, qy, qz) of " +
                                         (every ? "every contact frame" : "the contact frames"));
@@ -389,17 +528,39 @@ inline bool reads_positions(const std::vector<std::string>& needed) {
 /// accepts any finite number; 1e300 m became inf in a float cloud and failed
 /// deep inside a fold naming an internal matrix.) Contact points lie within
 /// the pad's half-diagonal of their touch's position, far inside the margin.
+///
+/// With occupancy among `needed`, the contact and free points of every
+/// touch must also lie within the range of its distance fields
+/// (TruncatedDistanceField::kMaxCoordinateVoxels voxels of
+/// --occupancy-voxel: 1e5 m at 1 mm), which the fields would otherwise
+/// refuse in the middle of the run.
 inline void check_positions(const std::vector<std::string>& needed, const TouchTable& table,
                             const RecognitionOptions& ro, const std::string& origin) {
   if (!reads_positions(needed)) return;
+  auto touch = [&](Index i) {
+    const auto t = static_cast<std::size_t>(i);
+    return "object '" + table.objects[static_cast<std::size_t>(table.object[t])] + "' exploration " +
+           std::to_string(table.exploration[t]) + " frame " + std::to_string(table.frame[t]) + ": ";
+  };
   for (Index i = 0; i < table.size(); ++i) {
     const std::string problem = position_problem(table.touches.positions.col(i), ro);
-    if (problem.empty()) continue;
-    const auto t = static_cast<std::size_t>(i);
-    throw InvalidArgument(origin, "object '" + table.objects[static_cast<std::size_t>(table.object[t])] +
-                                      "' exploration " + std::to_string(table.exploration[t]) + " frame " +
-                                      std::to_string(table.frame[t]) + ": " + problem);
+    if (!problem.empty()) throw InvalidArgument(origin, touch(i) + problem);
   }
+  if (std::find(needed.begin(), needed.end(), "occupancy") == needed.end()) return;
+  const double limit = TruncatedDistanceField::kMaxCoordinateVoxels * ro.occupancy_voxel;
+  const TouchSet& s = table.touches;
+  auto check = [&](const Eigen::Matrix3Xd& points, const std::vector<Index>& offsets, const char* kind) {
+    for (Index i = 0; i + 1 < static_cast<Index>(offsets.size()); ++i)
+      for (Index c = offsets[static_cast<std::size_t>(i)]; c < offsets[static_cast<std::size_t>(i) + 1]; ++c)
+        for (Index r = 0; r < 3; ++r)
+          if (!(std::abs(points(r, c)) <= limit))
+            throw InvalidArgument(origin, touch(i) + "a " + kind + " point's coordinate " + format_value(points(r, c)) +
+                                              " m is beyond the occupancy classifier's range (|v| <= " +
+                                              format_value(limit) + " m at --occupancy-voxel " +
+                                              format_value(ro.occupancy_voxel) + "); check the unit of x, y, z");
+  };
+  check(s.contact_points, s.contact_offsets, "contact");
+  check(s.free_points, s.free_offsets, "free");
 }
 
 /// Runs `f` and returns what it returns, with the library's argument names
