@@ -39,8 +39,8 @@
 // turns about the object's origin (OccupancyEvidence::turn_centre = 0), as
 // the simulator turns them. (The classifier's default axis, the centroid of
 // the evidence, lies up to 55 mm from the origin on the built-in objects; a
-// turn about it needs shifts beyond the grid and cost this bound 1 to 2
-// points in a trial.)
+// turn about it needs shifts beyond the grid and cost this bound 0.8 to
+// 2.3 points on the built-in objects in a trial.)
 //
 // This is a study of the simulated data, where the true shapes are known
 // (they are the meshes the simulator touched); it is not a method a user

@@ -99,8 +99,9 @@ struct OccupancyEvidence {
 /// object give two truncated distance fields: D_occ to the closest occupied
 /// point (truncated at tau = `truncation`) and D_free to the closest free
 /// point (truncated at rho = `free_radius`). A test touch i is scored under
-/// a planar placement g of the object (PlanarPlacements, turning about the
-/// centroid of the object's occupied points) as
+/// a planar placement g of the object (PlanarPlacements, turning about
+/// OccupancyEvidence::turn_centre, by default the centroid of the object's
+/// occupied points) as
 ///
 ///   c_i(g) = sum over its contact points p of  min(D_occ(g p)^2, tau^2)
 ///                + gamma tau^2 [D_free(g p) < min(D_occ(g p), rho)]
