@@ -194,18 +194,17 @@ std::vector<Setting> grid() {
     };
   };
   constexpr double kDeg = 3.14159265358979323846 / 180;
-  s.push_back({"occupancy", "occupancy (105 placements: 4 mm, 5 deg)", "sift", 50,
-               occupancy([](OccupancyClassifier&) {})});
-  s.push_back({"occupancy", "occupancy, 873 placements (2 mm, 2.5 deg)", "sift", 50,
-               occupancy([kDeg](OccupancyClassifier& c) {
-                 c.placements.shift_step = 2e-3;
-                 c.placements.yaw_step = 2.5 * kDeg;
-               })});
-  s.push_back({"occupancy", "occupancy, 15 placements (5 mm, 10 deg)", "sift", 50,
-               occupancy([kDeg](OccupancyClassifier& c) {
-                 c.placements.shift_step = 5e-3;
-                 c.placements.yaw_step = 10 * kDeg;
-               })});
+  // The label counts the grid's placements (PlanarPlacements::grid) with
+  // the default bounds, 10 mm and 10 degrees.
+  for (const auto& [shift_step, yaw_step_deg] : {std::pair{4e-3, 5.0}, {2e-3, 2.5}, {5e-3, 10.0}}) {
+    PlanarPlacements p;
+    p.shift_step = shift_step;
+    p.yaw_step = yaw_step_deg * kDeg;
+    char label[96];
+    std::snprintf(label, sizeof label, "occupancy, %ld placements (%g mm, %g deg%s)", static_cast<long>(p.grid().cols()),
+                  shift_step * 1e3, yaw_step_deg, shift_step == 4e-3 ? "; default" : "");
+    s.push_back({"occupancy", label, "sift", 50, occupancy([p](OccupancyClassifier& c) { c.placements = p; })});
+  }
   s.push_back({"occupancy", "occupancy, no placement search", "sift", 50, occupancy([](OccupancyClassifier& c) {
                  c.placements.max_shift = 0;
                  c.placements.max_yaw = 0;
