@@ -212,23 +212,10 @@ void BM_HeightSearch(benchmark::State& state) {
   }
 }
 
-/// The occupancy classifier's distances taken from a pool it prepared once
-/// (every touch's cost under every placement, Classifier::prepare_pool),
-/// the path of the cross validation, against the same tests' distances
-/// computed directly (BM_Recognition/occupancy adds the fusion and the
-/// decision to the latter).
-void BM_OccupancyPool(benchmark::State& state) {
-  const Scene& s = scene();
-  OccupancyClassifier c;
-  c.fit(s.objects, s.k);
-  const auto prepared = c.prepare_pool(s.all);
-  Eigen::VectorXd d(static_cast<Index>(s.objects.size()));
-  std::size_t i = 0;
-  for (auto _ : state) {
-    c.pool_distances(s.all, prepared.get(), s.test_rows[i++ % s.test_rows.size()], d);
-    benchmark::DoNotOptimize(d.data());
-  }
-}
+// The occupancy classifier's distances from a pool it prepared once (every
+// touch's cost under every placement): BM_PoolDistances<OccupancyClassifier>,
+// against the same tests computed directly in BM_Recognition/occupancy
+// (which adds the fusion and the decision).
 
 /// What the occupancy classifier's fields answer, the truncated squared
 /// distance from a test contact point to an object's training contact
@@ -264,7 +251,7 @@ void BM_OccupancyLookup(benchmark::State& state) {
 
 BENCHMARK_CAPTURE(BM_Recognition, occupancy, std::string("occupancy"));
 BENCHMARK_CAPTURE(BM_Recognition, occupancy_plus_height_contact, std::string("0.5*occupancy+0.5*height_contact"));
-BENCHMARK(BM_OccupancyPool);
+BENCHMARK_TEMPLATE(BM_PoolDistances, OccupancyClassifier);
 BENCHMARK(BM_OccupancyLookup)->Arg(0)->Arg(1)->ArgName("kdtree");
 BENCHMARK_CAPTURE(BM_Recognition, height, std::string("height"));
 BENCHMARK_CAPTURE(BM_Recognition, height_contact, std::string("height_contact"));
