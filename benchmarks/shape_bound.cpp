@@ -65,7 +65,8 @@
 // Every object of the dataset must have a shape of the same name. Writes
 // DIR/shape_bound.csv (method,touches,rate; rate a fraction, as in
 // `iclap evaluate`'s results.csv); --out defaults to shape_bound.
-// --touches defaults to 1,5,10,20 and --repeats to 10 (the draws per fold,
+// --touches (as `iclap evaluate` reads it: 1,5,10,20 or 1..20) defaults to
+// 1,5,10,20 and --repeats to 10 (the draws per fold,
 // object and number of touches); --threads 0 (the default) uses every core,
 // and the results do not depend on it.
 
@@ -79,7 +80,6 @@
 #include <map>
 #include <memory>
 #include <mutex>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -94,6 +94,7 @@
 #include "iclap/tactile/tactile_sift.hpp"
 #include "cli.hpp"
 #include "csv_field.hpp"
+#include "touch_counts.hpp"
 
 namespace {
 
@@ -170,17 +171,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::vector<int> parse_touches(const std::string& text) {
-  std::vector<int> out;
-  std::set<int> seen;
-  for (const auto& part : cli::Options::split(text, ',')) {
-    const int t = static_cast<int>(cli::Options::parse_integer(part, "--touches", 1, 100000));
-    if (!seen.insert(t).second) throw cli::UsageError("--touches: " + std::to_string(t) + " is listed twice");
-    out.push_back(t);
-  }
-  return out;
-}
-
 const char* const kUsage =
     "usage: shape_bound [DATASET.csv] [--objects DIR] [--out DIR] [--touches LIST] [--repeats N] [--threads N]\n";
 
@@ -198,7 +188,7 @@ int run(int argc, char** argv) {
       throw cli::UsageError("--objects: needs the DATASET.csv simulated from those meshes (without a dataset the "
                             "built-in objects are simulated and used)");
     out = opt.string("out", "shape_bound");
-    cv.touches = parse_touches(opt.string("touches", "1,5,10,20"));
+    cv.touches = cli::parse_touches(opt.string("touches", "1,5,10,20"));
     cv.repeats = static_cast<int>(opt.integer("repeats", 10, 1, 100000));
     cv.threads = static_cast<int>(opt.integer("threads", 0, 0, 4096));
     std::error_code ec;

@@ -31,6 +31,7 @@
 #include "iclap/sim/simulator.hpp"
 #include "recognition_setup.hpp"
 #include "svg_plot.hpp"
+#include "touch_counts.hpp"
 
 #ifndef ICLAP_SIM_FINGERPRINT
 #define ICLAP_SIM_FINGERPRINT "unknown"
@@ -88,25 +89,6 @@ const std::string kUsage = std::string(
     "                          DIR/references/OBJECT.ply (bytes other than letters,\n"
     "                          digits, - and _ written as %XX)\n") +
     RecognitionOptions::usage();
-
-std::vector<int> parse_touches(const std::string& text) {
-  std::vector<int> out;
-  for (const auto& part : Options::split(text, ',')) {
-    const auto dots = part.find("..");
-    if (dots != std::string::npos) {
-      const auto a = Options::parse_integer(part.substr(0, dots), "--touches", 1, 100000);
-      const auto b = Options::parse_integer(part.substr(dots + 2), "--touches", 1, 100000);
-      if (b < a) throw UsageError("--touches: empty range '" + part + "'");
-      for (long long t = a; t <= b; ++t) out.push_back(static_cast<int>(t));
-    } else {
-      out.push_back(static_cast<int>(Options::parse_integer(part, "--touches", 1, 100000)));
-    }
-  }
-  std::set<int> seen;
-  for (int t : out)
-    if (!seen.insert(t).second) throw UsageError("--touches: " + std::to_string(t) + " is listed twice");
-  return out;
-}
 
 std::vector<Method> parse_methods(const std::string& text) {
   std::vector<Method> out = paper_methods();
