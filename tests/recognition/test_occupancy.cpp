@@ -257,6 +257,42 @@ TEST_CASE("occupancy: a test re-placed within the placement bounds is found, bey
   CHECK(far(1) <= bound * (1 + 1e-6));
 }
 
+TEST_CASE("occupancy: a contact point where no training pad ever was costs unknown_cost tau^2") {
+  // A box 50 mm above the references' tops: its pressed taxels have no
+  // evidence of either kind within reach, and its free points no occupied
+  // point (so no contradiction), under the identity placement.
+  const Box high{0.02, 0.02, 0.08};
+  const TouchSet test = pad_touches(high, {{0.0, 0.0}, {0.005, 0.0}});
+  const auto contacts = static_cast<double>(test.contact_points.cols());
+  REQUIRE(contacts > 0);
+  // On the small box's top, in place: every pressed taxel on the evidence.
+  const TouchSet known = pad_touches(kSmall, {{0.0, 0.0}, {0.01, 0.005}});
+  Eigen::VectorXd d(2), k1(2), k4(2);
+  for (double u : {1.0, 0.4, 0.0}) {
+    CAPTURE(u);
+    OccupancyClassifier c;
+    c.unknown_cost = u;
+    c.placements.max_shift = 0;
+    c.placements.max_yaw = 0;
+    c.fit(training(), 0);
+    c.distances(test, d);
+    const double tau2 = c.truncation * c.truncation;
+    CHECK(d(0) == doctest::Approx(contacts * u * tau2).epsilon(1e-5));
+    CHECK(d(1) == doctest::Approx(contacts * u * tau2).epsilon(1e-5));
+    if (u == 1.0) c.distances(known, k1);
+    if (u == 0.4) c.distances(known, k4);
+  }
+  // Where the references saw the surface, the cost does not depend on it.
+  CHECK(k4(0) == doctest::Approx(k1(0)).epsilon(1e-12));
+  CHECK(k1(0) < 0.1 * static_cast<double>(known.contact_points.cols()) * 9e-6);
+  // Bounds.
+  OccupancyClassifier c;
+  for (double bad : {-0.1, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    c.unknown_cost = bad;
+    CHECK(error_of([&] { c.fit(training(), 0); }).find("unknown_cost: must be in [0, 1]") != std::string::npos);
+  }
+}
+
 TEST_CASE("occupancy: placements turn about the given centre") {
   const std::vector<TouchSet> objects = training();
   std::vector<OccupancyEvidence> ev(2);

@@ -105,6 +105,7 @@ struct OccupancyEvidence {
 ///
 ///   c_i(g) = sum over its contact points p of  min(D_occ(g p)^2, tau^2)
 ///                + gamma tau^2 [D_free(g p) < min(D_occ(g p), rho)]
+///              (or u tau^2 where D_occ(g p) >= tau and D_free(g p) >= rho)
 ///          + sum over its free points u of  gamma tau^2 [D_occ(g u) < min(D_free(g u), rho)]
 ///
 /// (the fields interpolated trilinearly, except in the free points' test,
@@ -141,6 +142,13 @@ class OccupancyClassifier final : public Classifier {
   /// gamma: the cost of a contradiction in units of tau^2; >= 0 (0: the
   /// free points are not used).
   double conflict_weight = 0.3;
+  /// u: the cost of a contact point with no evidence of either kind within
+  /// reach (D_occ at tau and D_free at rho: where no training pad ever
+  /// was), in units of tau^2; in [0, 1]. 1 (the default) charges it as a
+  /// miss, the same as a point near neither kind that the references saw
+  /// differently; less charges surface the training never explored less
+  /// than surface it explored and found elsewhere.
+  double unknown_cost = 1;
   /// The placements searched.
   PlanarPlacements placements;
   /// The name in a Recognizer; empty (the default): "occupancy".
@@ -155,6 +163,8 @@ class OccupancyClassifier final : public Classifier {
       throw InvalidArgument("free_radius", "must be > 0 and at most truncation (" + format_value(truncation) +
                                                " m), got " + format_value(free_radius));
     check_non_negative(conflict_weight, "conflict_weight");
+    if (!(unknown_cost >= 0 && unknown_cost <= 1))
+      throw InvalidArgument("unknown_cost", "must be in [0, 1], got " + format_value(unknown_cost));
     placements.validate("placements");
   }
 
@@ -202,7 +212,7 @@ class OccupancyClassifier final : public Classifier {
       refs.push_back(std::move(r));
     }
     grid_ = placements.grid("placements");
-    fitted_ = Fitted{truncation, free_radius, conflict_weight};
+    fitted_ = Fitted{truncation, free_radius, conflict_weight, unknown_cost};
     references_ = std::move(refs);
     fit_id_ = detail::next_fit_id();
   }
@@ -266,7 +276,7 @@ class OccupancyClassifier final : public Classifier {
     Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // the turns' vertical axis
   };
   struct Fitted {
-    double truncation = 0, free_radius = 0, conflict_weight = 0;
+    double truncation = 0, free_radius = 0, conflict_weight = 0, unknown_cost = 1;
   };
   struct Costs final : PreparedPool {
     std::uint64_t fit = 0;
@@ -298,6 +308,10 @@ class OccupancyClassifier final : public Classifier {
     const auto rho2 = static_cast<float>(fitted_.free_radius * fitted_.free_radius);
     const double penalty = fitted_.conflict_weight * static_cast<double>(cap);
     const bool conflicts = fitted_.conflict_weight > 0;
+    const bool unknown = fitted_.unknown_cost != 1;
+    // Fields at their truncation (all eight nodes of the interpolation).
+    const float far_occ = cap * (1 - 1e-5f), far_free = rho2 * (1 - 1e-5f);
+    const double unknown_charge = fitted_.unknown_cost * static_cast<double>(cap);
     for (Index g = 0; g < G; ++g) {
       // q = R (p - c) + c + t: the test point in the reference's frame.
       const double cy = std::cos(grid_(2, g)), sy = std::sin(grid_(2, g));
@@ -312,11 +326,17 @@ class OccupancyClassifier final : public Classifier {
         for (Index k = c0; k < c1; ++k) {
           const Eigen::Vector3d q = place(s.contact_points.col(k));
           const float dn = r.occupied.squared_distance(q);
-          c += static_cast<double>(dn);
-          if (conflicts) {
-            const float df = r.free.squared_distance(q);
-            if (df < dn && df < rho2) c += penalty;
+          if (!conflicts && !unknown) {
+            c += static_cast<double>(dn);
+            continue;
           }
+          const float df = r.free.squared_distance(q);
+          if (unknown && dn >= far_occ && df >= far_free) {
+            c += unknown_charge;
+            continue;
+          }
+          c += static_cast<double>(dn);
+          if (conflicts && df < dn && df < rho2) c += penalty;
         }
         if (conflicts) {
           // The free points, five times as many as the contact points on a
