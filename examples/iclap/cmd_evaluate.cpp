@@ -609,8 +609,8 @@ int run_evaluate(const Args& args) {
 
   const std::vector<std::string> needed = needed_classifiers(named);
   // --trim auto: one classifier variant per fraction, chosen like the weights.
-  const std::vector<Method> methods = ro.expand_trim_choices(named, needed);
-  const std::vector<std::string> built = ro.expand_trim_choices(needed);
+  const std::vector<Method> methods = ro.expand_choices(named, needed);
+  const std::vector<std::string> built = ro.expand_choices(needed);
   const auto t0 = std::chrono::steady_clock::now();
   std::string origin;
   Dataset dataset;

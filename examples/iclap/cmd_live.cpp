@@ -686,6 +686,9 @@ int run_live_command(const Args& args) {
   if (setup.ro.trim_auto || !setup.ro.trim_auto_by_name.empty())
     throw UsageError("--trim auto is chosen by iclap evaluate's cross validation; live recognition needs fixed "
                      "fractions (--trim F or NAME=F)");
+  if (setup.ro.occupancy_is_auto())
+    throw UsageError("lists of --occupancy-* values are chosen by iclap evaluate's cross validation; live "
+                     "recognition needs one value of each");
   setup.cv.seed = static_cast<std::uint64_t>(o.integer("seed", 1, 0));
   setup.ro.codebook_seed = setup.cv.seed;
   setup.cv.weight_repeats = static_cast<int>(o.integer("weight-repeats", 2, 1, 100000));

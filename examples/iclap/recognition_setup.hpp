@@ -76,10 +76,46 @@ struct RecognitionOptions {
   double occupancy_truncation = 3e-3;
   double occupancy_free_radius = 2e-3;
   double occupancy_conflict = 0.3;
+  double occupancy_unknown = 1;
   double placement_shift = 10e-3;
   double placement_yaw = 10.0 * 3.14159265358979323846 / 180;
   double placement_shift_step = 4e-3;
   double placement_yaw_step = 5.0 * 3.14159265358979323846 / 180;
+  /// Settings of the occupancy classifier for the training folds to choose
+  /// among (beyond the paper), like --trim auto: every combination of the
+  /// values that --occupancy-truncation, -free-radius, -conflict and
+  /// -unknown list (a comma-separated list of two or more makes a choice);
+  /// empty when each gives one value. The scalars above hold the first
+  /// combination.
+  struct OccupancyVariant {
+    double truncation, free_radius, conflict, unknown;
+  };
+  std::vector<OccupancyVariant> occupancy_variants;
+
+  /// "occupancy-t2-r2-c0_3-u1": truncation and free radius in millimetres,
+  /// conflict and unknown cost ('.' written as '_').
+  static std::string occupancy_variant_name(const OccupancyVariant& v) {
+    auto num = [](double x) {
+      std::string t = format_value(x);
+      std::replace(t.begin(), t.end(), '.', '_');
+      return t;
+    };
+    return "occupancy-t" + num(1e3 * v.truncation) + "-r" + num(1e3 * v.free_radius) + "-c" + num(v.conflict) + "-u" +
+           num(v.unknown);
+  }
+  /// Are occupancy's settings chosen on the training folds?
+  bool occupancy_is_auto() const { return occupancy_variants.size() > 1; }
+  /// The variant named `label` (occupancy_variant_name), or null.
+  const OccupancyVariant* find_occupancy_variant(const std::string& label) const {
+    for (const auto& v : occupancy_variants)
+      if (occupancy_variant_name(v) == label) return &v;
+    return nullptr;
+  }
+  std::vector<std::string> occupancy_variant_names() const {
+    std::vector<std::string> out;
+    for (const auto& v : occupancy_variants) out.push_back(occupancy_variant_name(v));
+    return out;
+  }
 
   /// The trimmed fraction of classifier `name` (or of a trim variant, whose
   /// name says it).
@@ -126,26 +162,34 @@ struct RecognitionOptions {
     return out;
   }
 
+  /// The variants the training folds choose among for classifier `name`
+  /// (its trim, or occupancy's settings); empty when it has fixed settings.
+  std::vector<std::string> chosen_variants(const std::string& name) const {
+    if (trim_is_auto(name)) return trim_variants(name);
+    if (name == "occupancy" && occupancy_is_auto()) return occupancy_variant_names();
+    return {};
+  }
+
   /// The classifiers to build for `needed` (the methods' own names): each
-  /// one whose trim is chosen on the training folds becomes its variants.
-  std::vector<std::string> expand_trim_choices(const std::vector<std::string>& needed) const {
+  /// one whose settings are chosen on the training folds becomes its
+  /// variants.
+  std::vector<std::string> expand_choices(const std::vector<std::string>& needed) const {
     std::vector<std::string> out;
     for (const auto& n : needed) {
-      if (!trim_is_auto(n)) {
-        out.push_back(n);
-        continue;
-      }
-      const auto variants = trim_variants(n);
+      const auto variants = chosen_variants(n);
+      if (variants.empty()) out.push_back(n);
       out.insert(out.end(), variants.begin(), variants.end());
     }
     return out;
   }
-  /// `methods` with every classifier whose trim is chosen on the training
-  /// folds replaced by its variants (Method::alternatives).
-  std::vector<Method> expand_trim_choices(std::vector<Method> methods, const std::vector<std::string>& needed) const {
+  /// `methods` with every classifier whose settings are chosen on the
+  /// training folds replaced by its variants (Method::alternatives).
+  std::vector<Method> expand_choices(std::vector<Method> methods, const std::vector<std::string>& needed) const {
     for (auto& m : methods)
-      for (const auto& n : needed)
-        if (trim_is_auto(n)) m = with_variants(m, n, trim_variants(n));
+      for (const auto& n : needed) {
+        const auto variants = chosen_variants(n);
+        if (!variants.empty()) m = with_variants(m, n, variants);
+      }
     return methods;
   }
 
@@ -175,7 +219,7 @@ struct RecognitionOptions {
   static std::set<std::string> value_options() {
     return {"descriptor", "transform", "scalar", "search", "k", "label-scale", "descriptor-scale",
             "tilt-scale", "contact-scale", "max-iterations", "relative-tolerance", "trim", "trim-choices", "contact-threshold", "patch-points",
-            "patch-voxel", "occupancy-voxel", "occupancy-truncation", "occupancy-free-radius", "occupancy-conflict",
+            "patch-voxel", "occupancy-voxel", "occupancy-truncation", "occupancy-free-radius", "occupancy-conflict", "occupancy-unknown",
             "placement-shift", "placement-yaw-deg", "placement-shift-step", "placement-yaw-step-deg"};
   }
   /// Usage lines of those options.
@@ -217,6 +261,11 @@ struct RecognitionOptions {
            "                          contradict, metres, > 0 and <= the truncation (default 0.002)\n"
            "  --occupancy-conflict G  cost of a contradiction in units of the truncation squared,\n"
            "                          in [0, 1e6] (default 0.3; 0 ignores where the pad felt nothing)\n"
+           "  --occupancy-unknown U   cost of a contact point where no training pad ever was, in\n"
+           "                          units of the truncation squared, in [0, 1] (default 1: as a miss)\n"
+           "                          The four options above take lists (e.g. 0.002,0.003): every\n"
+           "                          combination is a variant, chosen on the training folds like\n"
+           "                          the weights (evaluate only)\n"
            "  --placement-shift M     occupancy searches the object's placement within M metres,\n"
            "                          in [0, 1] (default 0.01: the simulator's re-placement)\n"
            "  --placement-yaw-deg D   ... and within +-D degrees about the vertical, in [0, 180]\n"
@@ -288,11 +337,16 @@ struct RecognitionOptions {
   static double bounded_option(const Options& o, const std::string& name, double fallback, double min, bool open_min,
                                double max, const std::string& unit = "") {
     const double v = o.number(name, fallback);
+    check_bounds(name, o.has(name) ? o.string(name) : format_value(v), v, min, open_min, max, unit);
+    return v;
+  }
+  /// UsageError naming option `name` and its value `given` unless `v` is
+  /// within [min, max] (`min` excluded when `open_min`).
+  static void check_bounds(const std::string& name, const std::string& given, double v, double min, bool open_min,
+                           double max, const std::string& unit) {
     if (!((open_min ? v > min : v >= min) && v <= max))
       throw UsageError("--" + name + " must be " + (open_min ? "> " : ">= ") + format_value(min) + " and <= " +
-                       format_value(max) + (unit.empty() ? "" : " " + unit) + ", got " +
-                       (o.has(name) ? o.string(name) : format_value(v)));
-    return v;
+                       format_value(max) + (unit.empty() ? "" : " " + unit) + ", got " + given);
   }
 
   /// Radians from degrees (180 gives pi exactly, which
@@ -318,9 +372,10 @@ struct RecognitionOptions {
   /// run, and its error is given back naming the options and their values.
   void parse_occupancy(const Options& o) {
     occupancy_voxel = bounded_option(o, "occupancy-voxel", occupancy_voxel, 2.5e-4, false, 0.1, "metres");
-    occupancy_truncation = bounded_option(o, "occupancy-truncation", occupancy_truncation, 0, true, 1, "metres");
-    occupancy_free_radius = bounded_option(o, "occupancy-free-radius", occupancy_free_radius, 0, true, 1, "metres");
-    occupancy_conflict = bounded_option(o, "occupancy-conflict", occupancy_conflict, 0, false, 1e6);
+    const auto truncations = bounded_list(o, "occupancy-truncation", occupancy_truncation, 0, true, 1, "metres");
+    const auto free_radii = bounded_list(o, "occupancy-free-radius", occupancy_free_radius, 0, true, 1, "metres");
+    const auto conflicts = bounded_list(o, "occupancy-conflict", occupancy_conflict, 0, false, 1e6);
+    const auto unknowns = bounded_list(o, "occupancy-unknown", occupancy_unknown, 0, false, 1);
     placement_shift = bounded_option(o, "placement-shift", placement_shift, 0, false, 1, "metres");
     placement_shift_step = bounded_option(o, "placement-shift-step", placement_shift_step, 0, true, 1, "metres");
     if (o.has("placement-yaw-deg"))
@@ -328,21 +383,59 @@ struct RecognitionOptions {
     if (o.has("placement-yaw-step-deg"))
       placement_yaw_step = radians(bounded_option(o, "placement-yaw-step-deg", 0, 0, true, 180, "degrees"));
 
+    occupancy_variants.clear();
+    for (double t : truncations)
+      for (double r : free_radii)
+        for (double c : conflicts)
+          for (double u : unknowns) occupancy_variants.push_back({t, r, c, u});
+    // Every combination is checked; the scalars end as the first one.
+    for (auto it = occupancy_variants.rbegin(); it != occupancy_variants.rend(); ++it) {
+      occupancy_truncation = it->truncation;
+      occupancy_free_radius = it->free_radius;
+      occupancy_conflict = it->conflict;
+      occupancy_unknown = it->unknown;
+      check_occupancy(o);
+    }
+    if (occupancy_variants.size() == 1) occupancy_variants.clear();
+  }
+
+  /// The values of option `name` (comma-separated; `fallback` when absent),
+  /// each bounded as bounded_option bounds one; a value listed twice is an
+  /// error.
+  static std::vector<double> bounded_list(const Options& o, const std::string& name, double fallback, double min,
+                                          bool open_min, double max, const std::string& unit = "") {
+    if (!o.has(name)) return {fallback};
+    std::vector<double> out;
+    for (const auto& item : Options::split(o.string(name), ',')) {
+      const double v = Options::parse_number(item, "--" + name, -std::numeric_limits<double>::infinity(),
+                                             std::numeric_limits<double>::infinity());
+      check_bounds(name, item, v, min, open_min, max, unit);
+      if (std::find(out.begin(), out.end(), v) != out.end()) throw UsageError("--" + name + " lists " + item + " twice");
+      out.push_back(v);
+    }
+    return out;
+  }
+
+  /// OccupancyClassifier::validate on the current occupancy settings; its
+  /// error given back naming the options and their values.
+  void check_occupancy(const Options& o) const {
     OccupancyClassifier probe;
     configure_occupancy(probe);
     try {
       probe.validate();
     } catch (const InvalidArgument& e) {
-      // The option (and its value as given) behind each setting the library
-      // names; the first is the one at fault, the others what it is
-      // measured against.
+      // The option (and its value as given, or the value of its list) behind
+      // each setting the library names; the first is the one at fault, the
+      // others what it is measured against.
       auto given = [&](const std::string& name, double value) {
-        return "--" + name + " " + (o.has(name) ? o.string(name) : format_value(value));
+        const bool as_given = o.has(name) && o.string(name).find(',') == std::string::npos;
+        return "--" + name + " " + (as_given ? o.string(name) : format_value(value));
       };
       const std::string voxel = given("occupancy-voxel", occupancy_voxel);
       const std::string truncation = given("occupancy-truncation", occupancy_truncation);
       const std::string free_radius = given("occupancy-free-radius", occupancy_free_radius);
       const std::string conflict = given("occupancy-conflict", occupancy_conflict);
+      const std::string unknown = given("occupancy-unknown", occupancy_unknown);
       const std::string grid = given("placement-shift", placement_shift) + ", " +
                                given("placement-shift-step", placement_shift_step) + ", " +
                                given("placement-yaw-deg", degrees(placement_yaw)) + " and " +
@@ -352,11 +445,13 @@ struct RecognitionOptions {
       if (a == "settings.truncation") throw UsageError(truncation + " with " + voxel + ": " + e.reason());
       if (a == "free_radius") throw UsageError(free_radius + " with " + truncation + ": " + e.reason());
       if (a == "conflict_weight") throw UsageError(conflict + ": " + e.reason());
+      if (a == "unknown_cost") throw UsageError(unknown + ": " + e.reason());
       if (a == "placements") throw UsageError(grid + ": " + e.reason());
       // A setting the bounds above already keep in range (e.g.
       // "placements.max_yaw", in radians): every option, and the library's
       // own words.
-      throw UsageError(voxel + ", " + truncation + ", " + free_radius + ", " + conflict + ", " + grid + ": " + e.what());
+      throw UsageError(voxel + ", " + truncation + ", " + free_radius + ", " + conflict + ", " + unknown + ", " + grid +
+                       ": " + e.what());
     }
   }
 
@@ -367,6 +462,7 @@ struct RecognitionOptions {
     c.truncation = occupancy_truncation;
     c.free_radius = occupancy_free_radius;
     c.conflict_weight = occupancy_conflict;
+    c.unknown_cost = occupancy_unknown;
     c.placements.max_shift = placement_shift;
     c.placements.shift_step = placement_shift_step;
     c.placements.max_yaw = placement_yaw;
@@ -374,21 +470,36 @@ struct RecognitionOptions {
   }
 
   /// The occupancy settings as the reports print them: "voxel 0.001 m,
-  /// truncation 0.003 m, free radius 0.002 m, conflict 0.3; placements
-  /// within 0.01 m and 10 deg in steps of 0.004 m and 5 deg (105)", the
-  /// last the number of placements searched. The options must be valid
+  /// truncation 0.003 m, free radius 0.002 m, conflict 0.3, unknown 1;
+  /// placements within 0.01 m and 10 deg in steps of 0.004 m and 5 deg
+  /// (105)", the last the number of placements searched; a setting chosen
+  /// on the training folds reads "truncation 0.002 or 0.003 m", and the
+  /// line ends with the number of variants. The options must be valid
   /// (parse checked them).
   std::string occupancy_summary() const {
     OccupancyClassifier c;
     configure_occupancy(c);
-    char buf[256];
-    std::snprintf(buf, sizeof buf,
-                  "voxel %g m, truncation %g m, free radius %g m, conflict %g; placements within %g m and %g deg in "
-                  "steps of %g m and %g deg (%ld)",
-                  occupancy_voxel, occupancy_truncation, occupancy_free_radius, occupancy_conflict, placement_shift,
-                  degrees(placement_yaw), placement_shift_step, degrees(placement_yaw_step),
+    auto values = [&](double first, double OccupancyVariant::*member) {
+      std::vector<double> seen{first};
+      for (const auto& v : occupancy_variants)
+        if (std::find(seen.begin(), seen.end(), v.*member) == seen.end()) seen.push_back(v.*member);
+      std::string out;
+      for (std::size_t i = 0; i < seen.size(); ++i) out += (i ? " or " : "") + format_value(seen[i]);
+      return out;
+    };
+    std::string out = "voxel " + format_value(occupancy_voxel) + " m, truncation " +
+                      values(occupancy_truncation, &OccupancyVariant::truncation) + " m, free radius " +
+                      values(occupancy_free_radius, &OccupancyVariant::free_radius) + " m, conflict " +
+                      values(occupancy_conflict, &OccupancyVariant::conflict) + ", unknown " +
+                      values(occupancy_unknown, &OccupancyVariant::unknown);
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "; placements within %g m and %g deg in steps of %g m and %g deg (%ld)",
+                  placement_shift, degrees(placement_yaw), placement_shift_step, degrees(placement_yaw_step),
                   static_cast<long>(c.placements.grid().cols()));
-    return buf;
+    out += buf;
+    if (occupancy_is_auto())
+      out += "; " + std::to_string(occupancy_variants.size()) + " variants chosen on the training folds";
+    return out;
   }
 
   /// "--trim": "F" for every registration classifier, "NAME=F" for one;
