@@ -92,15 +92,16 @@ struct RecognitionOptions {
   };
   std::vector<OccupancyVariant> occupancy_variants;
 
-  /// "occupancy-t2-r2-c0_3-u1": truncation and free radius in millimetres,
-  /// conflict and unknown cost ('.' written as '_').
+  /// "occupancy-t0_002-r0_002-c0_3-u1": truncation and free radius
+  /// (metres), conflict and unknown cost, each exactly (format_exact, so
+  /// two variants never share a name), '.' written as '_'.
   static std::string occupancy_variant_name(const OccupancyVariant& v) {
     auto num = [](double x) {
-      std::string t = format_value(x);
+      std::string t = format_exact(x);
       std::replace(t.begin(), t.end(), '.', '_');
       return t;
     };
-    return "occupancy-t" + num(1e3 * v.truncation) + "-r" + num(1e3 * v.free_radius) + "-c" + num(v.conflict) + "-u" +
+    return "occupancy-t" + num(v.truncation) + "-r" + num(v.free_radius) + "-c" + num(v.conflict) + "-u" +
            num(v.unknown);
   }
   /// Are occupancy's settings chosen on the training folds?

@@ -257,7 +257,7 @@ TEST_CASE("occupancy: a test re-placed within the placement bounds is found, bey
   CHECK(far(1) <= bound * (1 + 1e-6));
 }
 
-TEST_CASE("occupancy: a contact point where no training pad ever was costs unknown_cost tau^2") {
+TEST_CASE("occupancy: a contact point where no training pad ever was costs unknown_cost (kappa) tau^2") {
   // A box 50 mm above the references' tops: its pressed taxels have no
   // evidence of either kind within reach, and its free points no occupied
   // point (so no contradiction), under the identity placement.

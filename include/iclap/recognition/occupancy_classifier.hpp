@@ -105,7 +105,7 @@ struct OccupancyEvidence {
 ///
 ///   c_i(g) = sum over its contact points p of  min(D_occ(g p)^2, tau^2)
 ///                + gamma tau^2 [D_free(g p) < min(D_occ(g p), rho)]
-///              (or u tau^2 where D_occ(g p) >= tau and D_free(g p) >= rho)
+///              (or kappa tau^2 where D_occ(g p) >= tau and D_free(g p) >= rho)
 ///          + sum over its free points u of  gamma tau^2 [D_occ(g u) < min(D_free(g u), rho)]
 ///
 /// (the fields interpolated trilinearly, except in the free points' test,
@@ -142,7 +142,7 @@ class OccupancyClassifier final : public Classifier {
   /// gamma: the cost of a contradiction in units of tau^2; >= 0 (0: the
   /// free points are not used).
   double conflict_weight = 0.3;
-  /// u: the cost of a contact point with no evidence of either kind within
+  /// kappa: the cost of a contact point with no evidence of either kind within
   /// reach (D_occ at tau and D_free at rho: where no training pad ever
   /// was), in units of tau^2; in [0, 1]. 1 (the default) charges it as a
   /// miss, the same as a point near neither kind that the references saw
