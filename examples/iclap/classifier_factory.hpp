@@ -97,11 +97,7 @@ std::vector<std::unique_ptr<Classifier>> make_classifiers_for(const RecognitionO
       out.push_back(std::move(c));
     } else if (const auto* v = o.find_occupancy_variant(label)) {
       auto c = std::make_unique<OccupancyClassifier>();
-      o.configure_occupancy(*c);
-      c->truncation = v->truncation;
-      c->free_radius = v->free_radius;
-      c->conflict_weight = v->conflict;
-      c->unknown_cost = v->unknown;
+      o.configure_occupancy(*c, v);
       c->label = label;
       out.push_back(std::move(c));
     } else if (is_registration_classifier(name)) {

@@ -608,7 +608,8 @@ int run_evaluate(const Args& args) {
   const auto sim_seed = static_cast<std::uint64_t>(opt.integer("sim-seed", 1, 0));
 
   const std::vector<std::string> needed = needed_classifiers(named);
-  // --trim auto: one classifier variant per fraction, chosen like the weights.
+  // --trim auto (one classifier variant per fraction) and lists of occupancy
+  // settings (one per combination): variants chosen like the weights.
   const std::vector<Method> methods = ro.expand_choices(named, needed);
   const std::vector<std::string> built = ro.expand_choices(needed);
   const auto t0 = std::chrono::steady_clock::now();

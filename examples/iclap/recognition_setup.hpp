@@ -389,14 +389,12 @@ struct RecognitionOptions {
       for (double r : free_radii)
         for (double c : conflicts)
           for (double u : unknowns) occupancy_variants.push_back({t, r, c, u});
-    // Every combination is checked; the scalars end as the first one.
-    for (auto it = occupancy_variants.rbegin(); it != occupancy_variants.rend(); ++it) {
-      occupancy_truncation = it->truncation;
-      occupancy_free_radius = it->free_radius;
-      occupancy_conflict = it->conflict;
-      occupancy_unknown = it->unknown;
-      check_occupancy(o);
-    }
+    for (const auto& v : occupancy_variants) check_occupancy(o, v);
+    const OccupancyVariant& first = occupancy_variants.front();
+    occupancy_truncation = first.truncation;
+    occupancy_free_radius = first.free_radius;
+    occupancy_conflict = first.conflict;
+    occupancy_unknown = first.unknown;
     if (occupancy_variants.size() == 1) occupancy_variants.clear();
   }
 
@@ -417,11 +415,11 @@ struct RecognitionOptions {
     return out;
   }
 
-  /// OccupancyClassifier::validate on the current occupancy settings; its
-  /// error given back naming the options and their values.
-  void check_occupancy(const Options& o) const {
+  /// OccupancyClassifier::validate on the occupancy settings with `v`'s;
+  /// its error given back naming the options and their values.
+  void check_occupancy(const Options& o, const OccupancyVariant& v) const {
     OccupancyClassifier probe;
-    configure_occupancy(probe);
+    configure_occupancy(probe, &v);
     try {
       probe.validate();
     } catch (const InvalidArgument& e) {
@@ -433,10 +431,10 @@ struct RecognitionOptions {
         return "--" + name + " " + (as_given ? o.string(name) : format_value(value));
       };
       const std::string voxel = given("occupancy-voxel", occupancy_voxel);
-      const std::string truncation = given("occupancy-truncation", occupancy_truncation);
-      const std::string free_radius = given("occupancy-free-radius", occupancy_free_radius);
-      const std::string conflict = given("occupancy-conflict", occupancy_conflict);
-      const std::string unknown = given("occupancy-unknown", occupancy_unknown);
+      const std::string truncation = given("occupancy-truncation", v.truncation);
+      const std::string free_radius = given("occupancy-free-radius", v.free_radius);
+      const std::string conflict = given("occupancy-conflict", v.conflict);
+      const std::string unknown = given("occupancy-unknown", v.unknown);
       const std::string grid = given("placement-shift", placement_shift) + ", " +
                                given("placement-shift-step", placement_shift_step) + ", " +
                                given("placement-yaw-deg", degrees(placement_yaw)) + " and " +
@@ -456,14 +454,14 @@ struct RecognitionOptions {
     }
   }
 
-  /// Sets `c` as the occupancy options ask (the classifier's settings only;
-  /// its name is left as it is).
-  void configure_occupancy(OccupancyClassifier& c) const {
+  /// Sets `c` as the occupancy options ask, with the settings of `variant`
+  /// if given (the classifier's settings only; its name is left as it is).
+  void configure_occupancy(OccupancyClassifier& c, const OccupancyVariant* variant = nullptr) const {
     c.voxel = occupancy_voxel;
-    c.truncation = occupancy_truncation;
-    c.free_radius = occupancy_free_radius;
-    c.conflict_weight = occupancy_conflict;
-    c.unknown_cost = occupancy_unknown;
+    c.truncation = variant ? variant->truncation : occupancy_truncation;
+    c.free_radius = variant ? variant->free_radius : occupancy_free_radius;
+    c.conflict_weight = variant ? variant->conflict : occupancy_conflict;
+    c.unknown_cost = variant ? variant->unknown : occupancy_unknown;
     c.placements.max_shift = placement_shift;
     c.placements.shift_step = placement_shift_step;
     c.placements.max_yaw = placement_yaw;
