@@ -212,11 +212,6 @@ void BM_HeightSearch(benchmark::State& state) {
   }
 }
 
-// The occupancy classifier's distances from a pool it prepared once (every
-// touch's cost under every placement): BM_PoolDistances<OccupancyClassifier>,
-// against the same tests computed directly in BM_Recognition/occupancy
-// (which adds the fusion and the decision).
-
 /// What the occupancy classifier's fields answer, the truncated squared
 /// distance from a test contact point to an object's training contact
 /// points, by the field (range 0) and by a kd-tree nearest-neighbour query
@@ -251,6 +246,10 @@ void BM_OccupancyLookup(benchmark::State& state) {
 
 BENCHMARK_CAPTURE(BM_Recognition, occupancy, std::string("occupancy"));
 BENCHMARK_CAPTURE(BM_Recognition, occupancy_plus_height_contact, std::string("0.5*occupancy+0.5*height_contact"));
+// The occupancy classifier's distances from a pool it prepared once (every
+// touch's cost under every placement), against the same tests computed
+// directly in BM_Recognition/occupancy (which adds the fusion and the
+// decision).
 BENCHMARK_TEMPLATE(BM_PoolDistances, OccupancyClassifier);
 BENCHMARK(BM_OccupancyLookup)->Arg(0)->Arg(1)->ArgName("kdtree");
 BENCHMARK_CAPTURE(BM_Recognition, height, std::string("height"));

@@ -91,6 +91,14 @@ struct RecognitionOptions {
     double truncation, free_radius, conflict, unknown;
   };
   std::vector<OccupancyVariant> occupancy_variants;
+  /// The most combinations the lists may make. Every variant is a classifier
+  /// of its own, fitted on every fold and on its inner folds, and they are
+  /// all held at once: on the 20 built-in objects each added about 40 MB and
+  /// 30-40 s to a one-draw run of 20 touches on 2 threads (`--methods
+  /// occupancy --touches 20 --repeats 1 --weight-repeats 1`, 1, 2 and 4
+  /// variants: 101, 146 and 219 MB, 11, 51 and 116 s; 2026-11-26), so 256
+  /// is some 10 GB and hours, a 4 x 4 x 4 x 4 sweep.
+  static constexpr std::size_t kMaxOccupancyVariants = 256;
 
   /// "occupancy-t0_002-r0_002-c0_3-u1": truncation and free radius
   /// (metres), conflict and unknown cost, each exactly (format_exact, so
@@ -266,7 +274,7 @@ struct RecognitionOptions {
            "                          units of the truncation squared, in [0, 1] (default 1: as a miss)\n"
            "                          The four options above take lists (e.g. 0.002,0.003): every\n"
            "                          combination is a variant, chosen on the training folds like\n"
-           "                          the weights (evaluate only)\n"
+           "                          the weights (evaluate only; at most 256 combinations)\n"
            "  --placement-shift M     occupancy searches the object's placement within M metres,\n"
            "                          in [0, 1] (default 0.01: the simulator's re-placement)\n"
            "  --placement-yaw-deg D   ... and within +-D degrees about the vertical, in [0, 180]\n"
@@ -313,15 +321,7 @@ struct RecognitionOptions {
     relative_tolerance = o.number("relative-tolerance", relative_tolerance, 0.0);
     if (o.has("trim")) parse_trim(o.string("trim"));
     if (o.has("trim-choices")) {
-      trim_choices.clear();
-      std::set<double> seen;
-      for (const auto& item : Options::split(o.string("trim-choices"), ',')) {
-        const double f = Options::parse_number(item, "--trim-choices", -std::numeric_limits<double>::infinity(),
-                                               std::numeric_limits<double>::infinity());
-        if (!(f > 0 && f <= 1)) throw UsageError("--trim-choices " + item + ": a fraction must be in (0, 1]");
-        if (!seen.insert(f).second) throw UsageError("--trim-choices lists " + item + " twice");
-        trim_choices.push_back(f);
-      }
+      trim_choices = bounded_list(o, "trim-choices", 1, 0, true, 1);
       if (!trim_auto && trim_auto_by_name.empty())
         throw UsageError("--trim-choices needs --trim auto or --trim NAME=auto");
     }
@@ -384,6 +384,13 @@ struct RecognitionOptions {
     if (o.has("placement-yaw-step-deg"))
       placement_yaw_step = radians(bounded_option(o, "placement-yaw-step-deg", 0, 0, true, 180, "degrees"));
 
+    const std::size_t combinations = truncations.size() * free_radii.size() * conflicts.size() * unknowns.size();
+    if (combinations > kMaxOccupancyVariants)
+      throw UsageError("--occupancy-truncation, -free-radius, -conflict and -unknown list " +
+                       std::to_string(truncations.size()) + " x " + std::to_string(free_radii.size()) + " x " +
+                       std::to_string(conflicts.size()) + " x " + std::to_string(unknowns.size()) + " = " +
+                       std::to_string(combinations) + " combinations; at most " +
+                       std::to_string(kMaxOccupancyVariants) + " (each is a classifier of its own)");
     occupancy_variants.clear();
     for (double t : truncations)
       for (double r : free_radii)
