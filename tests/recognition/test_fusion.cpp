@@ -108,6 +108,38 @@ TEST_CASE("product with a zero distance, and deterministic ties") {
   // Negative inputs to a product are refused.
   const auto neg = table_of({{"icp", vec({-0.7, 0.0})}, {"bow", vec({0.1, 0.9})}});
   CHECK(error_of([&] { (icp * bow).evaluate(neg); }).find("non-negative") != std::string::npos);
+  // So is a negative distance that is not the first entry.
+  const auto neg_last = table_of({{"icp", vec({0.7, -0.1})}, {"bow", vec({0.1, 0.9})}});
+  CHECK(error_of([&] { (icp * bow).evaluate(neg_last); }).find("non-negative") != std::string::npos);
+}
+
+TEST_CASE("a NaN or infinity is refused, never passed on or decided by its position") {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  DistanceTable t;
+  // A NaN loses every comparison: decided as is, {nan, 0.35} went to object 0.
+  try {
+    t.set("icp", vec({0.2, nan}));
+    FAIL("a NaN distance was taken");
+  } catch (const NonFiniteValue& e) {
+    CHECK(std::string(e.argument()) == "distances of 'icp'");
+    CHECK(std::string(e.what()).find("row 1") != std::string::npos);
+  }
+  CHECK_THROWS_AS(t.set("bow", vec({inf, 0.1})), NonFiniteValue);
+  CHECK_FALSE(t.has("icp"));
+  CHECK_THROWS_AS(decide(vec({nan, 0.1})), NonFiniteValue);
+  CHECK_THROWS_AS(decide(vec({0.1, -inf})), NonFiniteValue);
+  CHECK_THROWS_AS(decision_confidence(vec({nan, 0.5})), NonFiniteValue);
+  CHECK_THROWS_AS(decision_confidence(vec({0.5, nan})), NonFiniteValue);
+  CHECK_THROWS_AS(decision_confidence(vec({inf, inf})), NonFiniteValue);
+  // A product of finite raw distances that overflows names the product.
+  const Fusion icp = Fusion::classifier("icp"), bow = Fusion::classifier("bow");
+  const auto huge = table_of({{"icp", vec({1e200, 1.0})}, {"bow", vec({1e200, 2.0})}});
+  try {
+    (icp * bow).evaluate(huge);
+    FAIL("an overflowing product was passed on");
+  } catch (const NonFiniteValue& e) {
+    CHECK(std::string(e.argument()) == "product icp*bow");
+  }
 }
 
 TEST_CASE("method names, parsing and the weight grid") {
@@ -243,6 +275,29 @@ TEST_CASE("normalisation policies") {
     normalize(same, kind);
     CHECK(same.allFinite());
   }
+  // All equal: a tie of zeros for MinMax and ZScore, even where the mean
+  // rounds off the values (0.1 x 3 sums to 0.30000000000000004; the
+  // z-score gave -1 -1 -1).
+  for (auto kind : {Normalization::MinMax, Normalization::ZScore})
+    for (const double v : {5.0, 0.1, 0.7, 1e-200, 3e200}) {
+      Eigen::VectorXd equal = vec({v, v, v});
+      normalize(equal, kind);
+      CHECK(equal.isZero(0));
+    }
+  // The z-score is signed: huge negative inputs are scaled like huge
+  // positive ones (they gave zeros or NaN), and tiny spreads do not
+  // underflow to a tie.
+  for (const double scale : {-1e200, 1e-200, -1e-200, 1e300}) {
+    d = vec({-2, 1, 1}) * scale;
+    normalize(d, Normalization::ZScore);
+    REQUIRE(d.allFinite());
+    const double sign = scale > 0 ? 1 : -1;
+    CHECK(d(0) == doctest::Approx(-sign * std::sqrt(2.0)));
+    CHECK(d(1) == doctest::Approx(sign / std::sqrt(2.0)));
+  }
+  d = vec({-1e308, -1e308, 0});
+  normalize(d, Normalization::ZScore);
+  CHECK(d.isApprox(vec({-1, -1, 2}) / std::sqrt(2.0)));
   // Huge values do not overflow.
   d = vec({1e300, 1e300});
   normalize(d, Normalization::L2);

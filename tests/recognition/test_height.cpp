@@ -220,6 +220,46 @@ TEST_CASE("contact_extents: the patch's principal standard deviations, largest f
   const Eigen::Vector2d far = contact_extents(grid(6, 3, pitch, Eigen::Vector3d(1000, -1000, 0.03), x, y));
   CHECK(far(0) == doctest::Approx(flat(0)).epsilon(1e-6));
   CHECK(far(1) == doctest::Approx(flat(1)).epsilon(1e-6));
+  // Spreads whose covariance overflows (it gave NaN, read as 0) or
+  // underflows (it gave 0) keep their size.
+  for (const double s : {1e160, 1e300, 1e-160, 1e-300}) {
+    const Eigen::Vector2d e = contact_extents(grid(6, 3, pitch * s, Eigen::Vector3d(s, 0, 0), x, y));
+    CHECK(e(0) == doctest::Approx(grid_sd(6, pitch * s)).epsilon(1e-9));
+    CHECK(e(1) == doctest::Approx(grid_sd(3, pitch * s)).epsilon(1e-9));
+  }
+  Eigen::Matrix3Xd bad = grid(2, 2, pitch, Eigen::Vector3d::Zero(), x, y);
+  bad(1, 2) = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_AS(contact_extents(bad), NonFiniteValue);
+}
+
+TEST_CASE("the height classifier refuses coordinates whose squared distances overflow, naming the touch") {
+  HeightClassifier h;
+  h.fit({touches({Eigen::Vector3d::Zero()}, {normal(0, 0)}), touches({Eigen::Vector3d(0, 0, 0.1)}, {normal(0, 0)})}, 0);
+  Eigen::VectorXd d(2);
+  // A height of 1e160 m passes TouchSet::validate (it is finite) but its
+  // squared distance is inf: it gave {inf, inf}.
+  const TouchSet far = touches({Eigen::Vector3d(0, 0, 0.02), Eigen::Vector3d(0, 0, 1e160)}, {normal(0, 0), normal(0, 0)});
+  try {
+    h.distances(far, d);
+    FAIL("a height of 1e160 m was taken");
+  } catch (const InvalidArgument& e) {
+    CHECK(std::string(e.argument()) == "test.positions (the height z)");
+    CHECK(std::string(e.what()).find("touch 1 gives 1e+160") != std::string::npos);
+  }
+  // A scale that blows a tilt up as far is named with the scales.
+  HeightClassifier steep;
+  steep.tilt_scale = 1e200;
+  try {
+    steep.fit({touches({Eigen::Vector3d::Zero()}, {normal(kPi / 2, 0)})}, 0);
+    FAIL("a tilt of 1.6e200 was taken");
+  } catch (const InvalidArgument& e) {
+    CHECK(std::string(e.argument()) == "objects[0].normals (the tilt times tilt_scale)");
+    CHECK(std::string(e.what()).find("tilt_scale 1e+200") != std::string::npos);
+  }
+  // Within range, the largest heights still give finite distances.
+  const TouchSet high = touches({Eigen::Vector3d(0, 0, 1e149)}, {normal(0, 0)});
+  h.distances(high, d);
+  CHECK(d.allFinite());
 }
 
 TEST_CASE("height_contact: heights, tilts and contact extents; without the patch, the height classifier exactly") {

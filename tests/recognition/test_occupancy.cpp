@@ -189,6 +189,18 @@ TEST_CASE("PlanarPlacements: a bounded grid, identity first, every motion within
   bad.max_shift = 1;
   bad.shift_step = 1e-3;  // 2001^2 shifts
   CHECK(error_of([&] { bad.validate(); }).find("use larger steps") != std::string::npos);
+  // validate counts the steps as grid() takes them: 0.3 / 0.1 is
+  // 2.9999999999999996, which the grid rounds to 3 rings of shifts. Counted
+  // as 2, this grid passed with 104429 placements, beyond kMaxPlacements.
+  bad = PlanarPlacements{};
+  bad.max_shift = 0.3;
+  bad.shift_step = 0.1;
+  bad.max_yaw = kPi;
+  bad.yaw_step = kPi / 1800;  // 3601 turns
+  CHECK(error_of([&] { bad.validate(); }).find("up to 176449 placements") != std::string::npos);
+  bad.yaw_step = kPi / 1000;  // 2001 turns x 49 shifts, 29 of them within the disc
+  CHECK(bad.grid().cols() == 29 * 2001);
+  CHECK(bad.grid().cols() <= PlanarPlacements::kMaxPlacements);
 }
 
 TEST_CASE("occupancy: where a pad felt nothing tells look-alikes apart that the pressed taxels cannot") {
@@ -349,6 +361,11 @@ TEST_CASE("occupancy: pool distances equal the distances of the subset, bit for 
   other.fit(training(), 0);
   CHECK(error_of([&] { other.pool_distances(pool, prepared.get(), {0}, d); }).find("prepared") != std::string::npos);
   CHECK(error_of([&] { c.pool_distances(pool, prepared.get(), {12}, d); }).find("subset") != std::string::npos);
+  // Another pool of the same size (here the same pads on the small box) is
+  // not scored with this one's costs.
+  const TouchSet same_size = pad_touches(kSmall, centres);
+  REQUIRE(same_size.size() == pool.size());
+  CHECK(error_of([&] { c.pool_distances(same_size, prepared.get(), {0}, d); }).find("prepared") != std::string::npos);
   c.fit(training(), 0);
   CHECK(error_of([&] { c.pool_distances(pool, prepared.get(), {0}, d); }).find("prepared") != std::string::npos);
 }

@@ -397,10 +397,14 @@ TEST_CASE("a prepared pool is refused by another classifier, pool or fit") {
   icp.pool_distances(pool, prepared.get(), {0, 1}, out);  // still valid
   icp.fit(sc.objects, 4);                                 // a refit makes it stale
   CHECK(argument([&] { icp.pool_distances(pool, prepared.get(), {0, 1}, out); }) == "prepared");
-  // A pool of the same size but other touches: the first matches do not fit
-  // its points, which the registration notices.
+  // A pool of the same size but other touches: its fingerprint differs
+  // (detail::pool_fingerprint), one position by a bit is enough.
   TouchSet moved = pool;
   moved.positions.row(0).array() += 0.01;
   const auto fresh = icp.prepare_pool(pool);
-  CHECK(argument([&] { icp.pool_distances(moved, fresh.get(), {0, 1}, out); }) == "first_matches");
+  CHECK(argument([&] { icp.pool_distances(moved, fresh.get(), {0, 1}, out); }) == "prepared");
+  TouchSet nudged = pool;
+  nudged.positions(2, 3) = std::nextafter(nudged.positions(2, 3), 1.0);
+  CHECK(argument([&] { icp.pool_distances(nudged, fresh.get(), {0, 1}, out); }) == "prepared");
+  icp.pool_distances(TouchSet(pool), fresh.get(), {0, 1}, out);  // a copy is the same pool
 }

@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,6 +22,33 @@ namespace detail {
 inline std::uint64_t next_fit_id() {
   static std::atomic<std::uint64_t> next{0};
   return ++next;
+}
+
+/// What a prepared pool remembers of the pool it was made for, so that
+/// another pool of the same size is refused rather than scored with the
+/// first one's work: a 64-bit FNV-1a hash of the bits of every touch
+/// position, the words and the numbers of features, contact and free
+/// points. O(touches); two explorations share it only if their pads stood
+/// at the same places to the last bit.
+inline std::uint64_t pool_fingerprint(const TouchSet& pool) {
+  std::uint64_t h = 14695981039346656037ull;
+  auto mix = [&h](std::uint64_t v) {
+    for (int b = 0; b < 8; ++b) {
+      h ^= (v >> (8 * b)) & 0xffu;
+      h *= 1099511628211ull;
+    }
+  };
+  mix(static_cast<std::uint64_t>(pool.size()));
+  for (Index k = 0; k < pool.positions.size(); ++k) {
+    std::uint64_t bits;
+    std::memcpy(&bits, pool.positions.data() + k, sizeof bits);
+    mix(bits);
+  }
+  for (Index k = 0; k < pool.words.size(); ++k) mix(static_cast<std::uint64_t>(pool.words(k)));
+  mix(static_cast<std::uint64_t>(pool.features.size()));
+  mix(static_cast<std::uint64_t>(pool.contact_points.cols()));
+  mix(static_cast<std::uint64_t>(pool.free_points.cols()));
+  return h;
 }
 }  // namespace detail
 

@@ -23,8 +23,11 @@ namespace iclap {
 class DistanceTable {
  public:
   /// Adds or replaces a classifier's distances; every entry must have the
-  /// same length (DimensionMismatch naming the classifier otherwise).
+  /// same length (DimensionMismatch naming the classifier otherwise) and be
+  /// finite (NonFiniteValue naming the classifier and the object's row: a
+  /// NaN would otherwise lose every comparison and be passed on).
   void set(const std::string& classifier, Eigen::VectorXd distances) {
+    check_finite(distances, "distances of '" + classifier + "'");
     if (!entries_.empty() && distances.size() != objects())
       throw DimensionMismatch("distances of '" + classifier + "'", objects(), distances.size());
     for (auto& e : entries_)
@@ -166,7 +169,9 @@ class Fusion {
 
   /// The fused distance of every object. Throws InvalidArgument naming
   /// "classifier" for a missing classifier and naming "distances" when a
-  /// product meets a negative distance. O(N x nodes).
+  /// product meets a negative distance, and NonFiniteValue naming the
+  /// product when it overflows (raw distances of 1e200 and 1e200; the
+  /// normalised ones are at most 1 and cannot). O(N x nodes).
   Eigen::VectorXd evaluate(const DistanceTable& table) const {
     switch (kind_) {
       case Kind::Classifier: return table.get(name_);
@@ -183,6 +188,7 @@ class Fusion {
           check_non_negative(v, children_[i]);
           out.array() *= v.array();
         }
+        check_finite(out, "product " + to_string());
         return out;
       }
     }
@@ -227,7 +233,7 @@ class Fusion {
     for (const auto& c : children_) c.collect(out);
   }
   static void check_non_negative(const Eigen::VectorXd& v, const Fusion& f) {
-    if (v.size() > 0 && v.minCoeff() < 0)
+    if ((v.array() < 0).any())
       throw InvalidArgument("distances", "product fusion needs non-negative distances, but " + f.to_string() +
                                              " has " + format_value(v.minCoeff()) +
                                              " (z-score normalisation is signed: use l2 or minmax with products)");
@@ -252,7 +258,10 @@ inline Fusion operator*(const Fusion& a, const Fusion& b) { return Fusion::produ
 
 /// The index of the smallest fused distance: the recognised object. Ties go
 /// to the smaller index, so decisions are deterministic. -1 when empty.
+/// NonFiniteValue naming "fused" for a NaN or infinity (a NaN loses every
+/// comparison, so it would decide by its position).
 inline Index decide(const Eigen::Ref<const Eigen::VectorXd>& fused) {
+  check_finite(fused, "fused");
   Index best = -1;
   for (Index j = 0; j < fused.size(); ++j)
     if (best < 0 || fused(j) < fused(best)) best = j;

@@ -33,14 +33,28 @@ inline Eigen::Vector2d height_and_tilt(const Eigen::Vector3d& position, const Ei
 /// the pad plane and the two axes are the patch's length and width: a full
 /// flat contact, a line along an edge or a thin handle, a partial patch where
 /// the pad overhangs. Any rigid motion of the points leaves them unchanged.
+///
+/// Points spread beyond 1e100 or within 1e-100 (whose covariance would
+/// overflow to NaN or underflow to 0) are scaled to unit spread first and
+/// the extents scaled back; others are computed as they are. Needs finite
+/// points (NonFiniteValue naming "points").
 inline Eigen::Vector2d contact_extents(const Eigen::Ref<const Eigen::Matrix3Xd>& points) {
+  check_finite(points, "points");
   if (points.cols() < 2) return Eigen::Vector2d::Zero();
-  const Eigen::Vector3d mean = points.rowwise().mean();
-  const Eigen::Matrix3Xd centred = points.colwise() - mean;
+  // The mean of points of any finite magnitude: scaled down before summing.
+  const double magnitude = points.cwiseAbs().maxCoeff();
+  const Eigen::Vector3d mean = magnitude > 1e300 ? Eigen::Vector3d((points / magnitude).rowwise().mean() * magnitude)
+                                                 : Eigen::Vector3d(points.rowwise().mean());
+  Eigen::Matrix3Xd centred = points.colwise() - mean;
+  const double spread = centred.cwiseAbs().maxCoeff();
+  if (spread == 0) return Eigen::Vector2d::Zero();
+  const bool rescale = spread > 1e100 || spread < 1e-100;
+  if (rescale) centred /= spread;
   const Eigen::Matrix3d covariance = centred * centred.transpose() / static_cast<double>(points.cols());
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance, Eigen::EigenvaluesOnly);
   const Eigen::Vector3d& v = eigen.eigenvalues();  // ascending
-  return {std::sqrt(std::max(0.0, v(2))), std::sqrt(std::max(0.0, v(1)))};
+  const Eigen::Vector2d extents(std::sqrt(std::max(0.0, v(2))), std::sqrt(std::max(0.0, v(1))));
+  return rescale ? Eigen::Vector2d(extents * spread) : extents;
 }
 
 /// Registration-free kinesthetic recognition (beyond the paper): each touch
@@ -171,6 +185,21 @@ class HeightClassifier final : public Classifier {
         const Index begin = touches.contact_offsets[static_cast<std::size_t>(i)];
         p.col(i).tail<2>() = scales.contact * contact_extents(touches.contact_points.middleCols(begin, touches.contacts_of(i)));
       }
+    }
+    // The squared distances of the search stay finite (the Classifier
+    // contract) only for coordinates within largest_coordinate: a height of
+    // 1e160 m, or a scale that blows a tilt or a patch up as far, is refused
+    // here, naming the touch and what made the coordinate.
+    const auto [row, touch] = find_beyond_range<double>(p);
+    if (row >= 0) {
+      static const char* const what[] = {".positions (the height z)", ".normals (the tilt times tilt_scale)",
+                                         ".contact_points (the patch length times contact_scale)",
+                                         ".contact_points (the patch width times contact_scale)"};
+      throw InvalidArgument(argument + what[row], "touch " + std::to_string(touch) + " gives " + format_value(p(row, touch)) +
+                                                      ", beyond the range of distances (|v| <= " +
+                                                      format_value(largest_coordinate<double>()) + ", tilt_scale " +
+                                                      format_value(scales.tilt) + ", contact_scale " +
+                                                      format_value(scales.contact) + "): squared distances would overflow");
     }
     return p;
   }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -70,11 +71,20 @@ inline void normalize(Eigen::Ref<Eigen::VectorXd> d, Normalization kind) {
       break;
     }
     case Normalization::ZScore: {
-      // The z-score does not change with the scale: distances whose sum or
-      // squared deviations would overflow (1e308) are scaled down first;
-      // they became NaN. Others are left as they are, bit for bit.
-      const double m = d.maxCoeff();
-      if (m > 1e150) d /= m;
+      // Equal distances are a tie whatever rounding the mean makes of them
+      // (0.1 three times has a mean 1 ulp off and a tiny non-zero spread).
+      const double lo = d.minCoeff(), hi = d.maxCoeff();
+      if (!(hi > lo)) {
+        d.setZero();
+        break;
+      }
+      // The z-score does not change with the scale: distances of magnitude
+      // beyond 1e150 (either sign), whose sum or squared deviations would
+      // overflow, and below 1e-150, whose squared deviations would
+      // underflow to 0, are scaled to magnitude 1 first. Others are left as
+      // they are, bit for bit.
+      const double m = std::max(std::abs(lo), std::abs(hi));
+      if (m > 1e150 || m < 1e-150) d /= m;
       const double mean = d.mean();
       const double sd = std::sqrt((d.array() - mean).square().mean());
       if (sd > 0) d = (d.array() - mean) / sd;

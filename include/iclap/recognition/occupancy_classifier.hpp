@@ -44,8 +44,10 @@ struct PlanarPlacements {
     if (!(max_yaw >= 0 && max_yaw <= 3.14159265358979323846))
       throw InvalidArgument(argument + ".max_yaw", "must be in [0, pi] rad, got " + format_value(max_yaw));
     check_positive(yaw_step, argument + ".yaw_step");
-    const double shifts = std::pow(2 * std::floor(max_shift / shift_step) + 1, 2);
-    const double yaws = 2 * std::floor(max_yaw / yaw_step) + 1;
+    // The steps each way that grid() takes (the same rounding: 0.3 / 0.1 is
+    // 2.9999999999999996 and takes 3).
+    const double shifts = std::pow(2 * steps(max_shift, shift_step) + 1, 2);
+    const double yaws = 2 * steps(max_yaw, yaw_step) + 1;
     if (!(shifts * yaws <= kMaxPlacements))
       throw InvalidArgument(argument, "a grid of up to " + format_value(shifts * yaws) + " placements exceeds " +
                                           format_value(kMaxPlacements) + "; use larger steps");
@@ -56,8 +58,8 @@ struct PlanarPlacements {
   /// motion). Throws like validate().
   Eigen::Matrix3Xd grid(const std::string& argument = "placements") const {
     validate(argument);
-    const int ns = static_cast<int>(std::floor(max_shift / shift_step + 1e-9));
-    const int ny = static_cast<int>(std::floor(max_yaw / yaw_step + 1e-9));
+    const int ns = static_cast<int>(steps(max_shift, shift_step));
+    const int ny = static_cast<int>(steps(max_yaw, yaw_step));
     std::vector<Eigen::Vector3d> out;
     for (int a = -ns; a <= ns; ++a)
       for (int b = -ns; b <= ns; ++b) {
@@ -73,6 +75,11 @@ struct PlanarPlacements {
     for (std::size_t k = 0; k < out.size(); ++k) m.col(static_cast<Index>(k)) = out[k];
     return m;
   }
+
+ private:
+  /// Whole steps of `step` within `range`, a ratio within 1e-9 of a whole
+  /// number counting as that number.
+  static double steps(double range, double step) { return std::floor(range / step + 1e-9); }
 };
 
 /// What is known of one object's surface: points where it was felt
@@ -249,6 +256,7 @@ class OccupancyClassifier final : public Classifier {
     auto prepared = std::make_shared<Costs>();
     prepared->fit = fit_id_;
     prepared->touches = pool.size();
+    prepared->pool = detail::pool_fingerprint(pool);
     prepared->costs.resize(references_.size());
     for (Index j = 0; j < objects(); ++j) touch_costs(pool, j, prepared->costs[static_cast<std::size_t>(j)]);
     return prepared;
@@ -262,7 +270,8 @@ class OccupancyClassifier final : public Classifier {
                       Eigen::Ref<Eigen::VectorXd> out) const override {
     if (!prepared) return Classifier::pool_distances(pool, prepared, subset, out);
     const auto* costs = dynamic_cast<const Costs*>(prepared);
-    if (!costs || costs->fit != fit_id_ || costs->touches != pool.size())
+    if (!costs || costs->fit != fit_id_ || costs->touches != pool.size() ||
+        costs->pool != detail::pool_fingerprint(pool))
       throw InvalidArgument("prepared", "was not made by prepare_pool of this classifier for this pool since its last fit");
     checked_subset(pool, subset);
     check_dimension(out.size(), objects(), "out");
@@ -281,6 +290,7 @@ class OccupancyClassifier final : public Classifier {
   struct Costs final : PreparedPool {
     std::uint64_t fit = 0;
     Index touches = 0;
+    std::uint64_t pool = 0;  // detail::pool_fingerprint
     std::vector<std::vector<double>> costs;  // per object: placements x touches, touch fastest
   };
 

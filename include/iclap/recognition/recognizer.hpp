@@ -35,7 +35,9 @@ inline void check_methods_use_known_classifiers(const std::vector<Method>& metho
 /// How sure a decision is: the relative margin 1 - best / second best of
 /// non-negative fused distances, in [0, 1] (0: a tie, 1: the best distance is
 /// 0 and the next is not). 1 with a single object; 0 when every distance is 0.
+/// NonFiniteValue naming "fused" for a NaN or infinity.
 inline double decision_confidence(const Eigen::Ref<const Eigen::VectorXd>& fused) {
+  check_finite(fused, "fused");
   if (fused.size() < 2) return 1.0;
   double best = fused(0), second = fused(1);
   if (second < best) std::swap(best, second);

@@ -412,6 +412,7 @@ class RegistrationClassifier final : public Classifier {
       check_embedded_dimension(pool, "pool");
       auto prepared = std::make_shared<FirstMatches>();
       prepared->fit = fit_id_;
+      prepared->pool = detail::pool_fingerprint(pool);
       // The pool's points touch by touch, as a test made of them has them.
       std::vector<Cloud<Scalar, Dim>> parts(static_cast<std::size_t>(pool.size()));
       prepared->offsets.assign(1, 0);
@@ -442,7 +443,8 @@ class RegistrationClassifier final : public Classifier {
                       Eigen::Ref<Eigen::VectorXd> out) const override {
     const TouchSet test = select_touches(pool, checked_subset(pool, subset));
     const auto* first = dynamic_cast<const FirstMatches*>(prepared);
-    if (prepared && (!first || first->fit != fit_id_ || first->touches() != pool.size()))
+    if (prepared && (!first || first->fit != fit_id_ || first->touches() != pool.size() ||
+                     first->pool != detail::pool_fingerprint(pool)))
       throw InvalidArgument("prepared",
                             "was not made by prepare_pool of this classifier for this pool since its last fit");
     compute_distances(test, first, &subset, out);
@@ -661,7 +663,8 @@ class RegistrationClassifier final : public Classifier {
 
   /// What `prepare_pool` computes.
   struct FirstMatches final : PreparedPool {
-    std::uint64_t fit = 0;  // fit_id_ of the classifier at preparation
+    std::uint64_t fit = 0;   // fit_id_ of the classifier at preparation
+    std::uint64_t pool = 0;  // detail::pool_fingerprint of the pool
     /// Pool touch i's points are columns offsets[i] .. offsets[i + 1] - 1.
     std::vector<Index> offsets;
     Index touches() const { return static_cast<Index>(offsets.size()) - 1; }  // pool size
