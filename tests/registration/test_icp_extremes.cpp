@@ -166,6 +166,36 @@ TEST_CASE("the reflection guard picks the best proper rotation") {
   CHECK(R.determinant() == doctest::Approx(1.0));
 }
 
+TEST_CASE("a reflection with equal smallest singular values leaves the rotation undetermined: flagged") {
+  // H = diag(3, 1, -1) has full rank, but over SO(3) tr(R H) = 3 for every
+  // turn about x: the pairs (a mirror image) do not determine the rotation.
+  const Eigen::Matrix3d H = Eigen::Vector3d(3, 1, -1).asDiagonal();
+  Eigen::Matrix3d R;
+  bool degenerate = false;
+  detail::proper_rotation<double, 3>(H, 1e-12, R, degenerate);
+  CHECK(degenerate);
+  CHECK((R * H).trace() == doctest::Approx(3.0));
+  // Through the estimator of the spatial block, at any size.
+  const auto e = SpatialRigid::estimate<double, 3>(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), H, 1e-12);
+  CHECK(e.degenerate);
+  Eigen::Matrix4d H4 = Eigen::Vector4d(5, 3, 1, -1).asDiagonal();
+  Eigen::Matrix4d R4;
+  degenerate = false;
+  detail::proper_rotation<double, 4>(H4, 1e-12, R4, degenerate);
+  CHECK(degenerate);
+  // Distinct smallest singular values: the flipped optimum is unique.
+  detail::proper_rotation<double, 3>(Eigen::Matrix3d(Eigen::Vector3d(3, 2, -1).asDiagonal()), 1e-12, R, degenerate);
+  CHECK_FALSE(degenerate);
+  // The planar model: H = diag(1, -1) is pure reflection, tr(R H) = 0 for
+  // every angle; it returned the identity with the flag down.
+  const auto p = Planar::estimate<double, 2>(Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(),
+                                             Eigen::Matrix2d(Eigen::Vector2d(1, -1).asDiagonal()), 1e-12);
+  CHECK(p.degenerate);
+  const auto q = Planar::estimate<double, 2>(Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(),
+                                             Eigen::Matrix2d(Eigen::Vector2d(1, -0.5).asDiagonal()), 1e-12);
+  CHECK_FALSE(q.degenerate);
+}
+
 TEST_CASE("the 3x3 closed form agrees with the SVD, or declines") {
   // The reference: the SVD route of proper_rotation for a 3x3 block.
   auto by_svd = [](const Eigen::Matrix3d& H) {

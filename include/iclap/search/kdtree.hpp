@@ -69,7 +69,12 @@ struct NearestTieAwareResultSet {
       best = d;
       index = i;
       constexpr Scalar slack = Scalar(1) + Scalar(64) * std::numeric_limits<Scalar>::epsilon();
-      bound = best * slack + std::numeric_limits<Scalar>::denorm_min();
+      // The smallest normal, not denorm_min: under flush-to-zero (a program
+      // built with -ffast-math starts in it) a subnormal reads as 0, the
+      // bound of a zero distance became 0 and a duplicate point of smaller
+      // index in another leaf was never offered (answers unlike
+      // BruteForceSearch's).
+      bound = best * slack + std::numeric_limits<Scalar>::min();
     }
     return true;
   }

@@ -51,7 +51,12 @@ struct Planar {
     }
     e.R << c, -s, s, c;
     e.t = cq - e.R * cp;
-    e.degenerate = detail::rank_deficient<Acc, 2>(Point<Acc, 2>(q + r, std::abs(q - r)), rank_tol);
+    // Degenerate when H is rank deficient, and also when its rotation part
+    // vanishes against its reflection part (q <= tol (q + r): pairs that
+    // mirror each other), where tr(R H) hardly changes with the angle and
+    // the identity above is no answer.
+    e.degenerate = detail::rank_deficient<Acc, 2>(Point<Acc, 2>(q + r, std::abs(q - r)), rank_tol) ||
+                   !(q > (q + r) * static_cast<Acc>(rank_tol));
     return e;
   }
 

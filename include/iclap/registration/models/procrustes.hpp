@@ -131,11 +131,21 @@ void proper_rotation(const SquareMatrix<Acc, B>& H, double rank_tol, SquareMatri
     const Matrix& U = svd.matrixU();
     Matrix V = svd.matrixV();
     R.noalias() = V * U.transpose();
+    bool flipped = false;
     if (R.determinant() < 0) {
       V.col(n - 1) *= Acc(-1);
       R.noalias() = V * U.transpose();
+      flipped = true;
     }
     degenerate = rank_deficient<Acc, B>(svd.singularValues(), rank_tol);
+    // Flipped, the best proper rotation is unique only when the two smallest
+    // singular values differ: where they are equal, tr(R H) is the same for
+    // every turn in their plane (a mirror image of pairs), so the pairs do
+    // not determine the rotation, though H has full rank.
+    if (flipped && n >= 2) {
+      const auto& sv = svd.singularValues();
+      degenerate = degenerate || !(sv(n - 2) - sv(n - 1) > sv(0) * static_cast<Acc>(rank_tol));
+    }
   };
   // Jacobi for small blocks, divide and conquer for large ones; decided at
   // compile time when the size is fixed, so a 3-D registration never
