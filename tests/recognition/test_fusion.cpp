@@ -161,6 +161,11 @@ TEST_CASE("method names, parsing and the weight grid") {
   CHECK(error_of([] { parse_method("(icp"); }).find("missing ')'") != std::string::npos);
   CHECK(error_of([] { parse_method("0.3*icp+0.3*bow"); }).find("sum to 0.6") != std::string::npos);
   CHECK(error_of([] { parse_method("(icp+bow)*iclap"); }).find("top-level") != std::string::npos);
+  // Weights are read by from_chars: no silent underflow to 0, no hex.
+  CHECK(error_of([] { parse_method("1e-400*icp+1*bow"); }).find("the weight 1e-400 is out of the range of a double") !=
+        std::string::npos);
+  CHECK(error_of([] { parse_method("0x.8*icp+0x.8*bow"); }) != "(no error)");
+  CHECK(parse_method(".5*icp+.5*bow").fusion.weights() == std::vector<double>{0.5, 0.5});
   // Names as with_variants makes them, and names that start with a digit;
   // a space inside a name is an error, not removed.
   const Method variant = parse_method("0.5*patch-trim50 + 0.5*bow");

@@ -280,7 +280,10 @@ TEST_CASE("Pose specs") {
   auto oriented = make_pose_source("fixed:0,0,0,1,0,0,0");
   CHECK(oriented->has_orientation());
   CHECK(oriented->next()->orientation->w() == 1.0);
+  // Spaces around the numbers are fine; hex and numbers beyond a double are not.
+  CHECK(make_pose_source("fixed: 0.1, -2 ,3e-3")->next()->position == p->position);
   for (const char* bad : {"fixed:", "fixed:1,2", "fixed:1,2,3,4", "fixed:1,2,x", "fixed:1,2,nan", "fixed:1,,3",
+                          "fixed:0x1,0,0", "fixed:1e400,0,0", "fixed:1 2,0,0",
                           "fixed:0,0,0,2,0,0,0", "nowhere:1", "replay:", "", "omni"}) {
     CAPTURE(bad);
     if (std::string(bad) == "omni" && kHaveOpenHaptics) continue;

@@ -3,7 +3,8 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstdlib>
+#include <charconv>
+#include <system_error>
 #include <string>
 #include <utility>
 #include <vector>
@@ -125,13 +126,17 @@ class MethodParser {
       double w = 0;
       if (pos_ < s_.size() && (std::isdigit(static_cast<unsigned char>(s_[pos_])) || s_[pos_] == '.')) {
         const std::size_t start = pos_;
-        const char* begin = s_.c_str() + pos_;
-        char* end = nullptr;
-        w = std::strtod(begin, &end);
-        pos_ += static_cast<std::size_t>(end - begin);
+        const char* begin = s_.data() + pos_;
+        // from_chars, not strtod: the same in every locale (a program that
+        // set a decimal comma read "0.5*icp" as 0 followed by ".5"), and
+        // no hex weights.
+        const auto read = std::from_chars(begin, s_.data() + s_.size(), w);
+        pos_ += static_cast<std::size_t>(read.ptr - begin);
         if (pos_ < s_.size() && is_name_char(s_[pos_])) {
           pos_ = start;  // a name that starts with digits ("3d"), not a weight
         } else {
+          if (read.ec == std::errc::result_out_of_range)
+            fail("the weight " + s_.substr(start, pos_ - start) + " is out of the range of a double");
           if (!eat('*')) fail("a weight must be followed by '*'");
           ++weighted;
         }

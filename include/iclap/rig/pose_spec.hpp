@@ -4,9 +4,7 @@
 // Builds a PoseSource from a command-line spec such as `fixed:0,0,0.1`.
 // Includes OpenHaptics only when ICLAP_HAVE_OPENHAPTICS is defined.
 
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -53,10 +51,10 @@ inline std::unique_ptr<PoseSource> make_pose_source(const std::string& spec, con
     for (;;) {
       const std::size_t comma = rest.find(',', start);
       const std::string item = rest.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-      char* end = nullptr;
-      errno = 0;
-      const double x = std::strtod(item.c_str(), &end);
-      if (item.empty() || end != item.c_str() + item.size() || errno == ERANGE || !std::isfinite(x))
+      // from_chars, not strtod: the same in every locale (a program that
+      // set a decimal comma read "0.1" as 0 and stopped), no hex.
+      double x = 0;
+      if (!detail::parse_double(detail::trim_ascii(item), x) || !std::isfinite(x))
         throw InvalidArgument(argument, quote_text(spec, 80) + ": " + quote_text(item, 40) + " is not a finite number");
       v.push_back(x);
       if (comma == std::string::npos) break;
