@@ -59,6 +59,11 @@ TEST_CASE("point files: every malformed case names the file and the line") {
   CHECK(error_of("1 2\n+-1 2\n") == "pts.txt:2: '+-1' in column 1 is not a number");
   // Only the first line may be a header.
   CHECK(error_of("a b\nc d\n") == "pts.txt:2: 'c' in column 1 is not a number");
+  // Carriage returns as line breaks (old Mac files): refused at the first
+  // line, not read as one point of nine coordinates.
+  CHECK(error_of("0 0 0\r1 1 1\r2 2 2\r") ==
+        "pts.txt:1: carriage return inside the line (line breaks must be \\n or \\r\\n)");
+  CHECK(error_of("x y z\r0 0 0\r") == "pts.txt:1: carriage return inside the line (line breaks must be \\n or \\r\\n)");
   CHECK_THROWS_AS(read_point_file("/nonexistent/points.txt"), IoError);
 }
 

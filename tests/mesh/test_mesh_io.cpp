@@ -146,6 +146,21 @@ TEST_CASE("mesh io: more malformed input, from streams") {
   CHECK(ply_error("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n")
             .rfind("3: element 'vertex' lacks a scalar property x, y or z", 0) == 0);
   CHECK(ply_error("ply\nformat binary_middle_endian 1.0\n").rfind("2: unknown PLY format", 0) == 0);
+  // ASCII integers stay within their declared type, as binary bytes do (a
+  // uchar of 300 or -5 was taken as written).
+  const std::string faces = "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
+  CHECK(ply_error(head + faces + "3 0 1 2\n") == "accepted");
+  CHECK(ply_error(head + faces + "300 0 1 2\n")
+            .rfind("13: element 'face' item 0 property 'vertex_indices' count: '300' is out of the range of its type [0, 255]", 0) == 0);
+  CHECK(ply_error(head + faces + "3 0 1 99999999999\n").find("is out of the range of its type [-2147483648, 2147483647]") !=
+        std::string::npos);
+  // "+-1" is not -1 (from_chars after a stripped '+'), in any format.
+  CHECK(ply_error(head + faces + "3 0 1 +-1\n").find("'+-1' is not an integer") != std::string::npos);
+  CHECK(obj_error("v +-1 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").rfind("1: ", 0) == 0);
+  CHECK(obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 +-1\n").rfind("4: ", 0) == 0);
+  CHECK(stl_error("solid a\nfacet normal 0 0 1\nouter loop\nvertex +-1 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid a\n")
+            .rfind("4: ", 0) == 0);
+  CHECK(obj_error("v +1 0 0\nv 1 0 0\nv 0 1 0\nf +1 2 3\n") == "accepted");
 }
 
 TEST_CASE("mesh io: load_mesh picks the format by extension, units") {

@@ -368,6 +368,32 @@ TEST_CASE("moments: a single taxel") {
   for (double h : m.hu) CHECK(h == 0.0);
 }
 
+TEST_CASE("moments: pressures at the ends of the double range keep the centroid and the invariants") {
+  // Two taxels at 1e308 overflowed the total to inf and the centroid to NaN;
+  // a single subnormal taxel rounded the centroid off by half a taxel.
+  Eigen::MatrixXd bar = Eigen::MatrixXd::Zero(14, 6);
+  bar(3, 1) = bar(3, 2) = bar(4, 1) = 1.0;
+  const ImageMoments ref = compute_moments(TactileImage(bar));
+  for (const double scale : {1e308, 1e-320}) {
+    CAPTURE(scale);
+    const ImageMoments m = compute_moments(TactileImage(bar * scale));
+    CHECK(m.centroid.isApprox(ref.centroid, 1e-12));
+    CHECK(m.mu20 == doctest::Approx(ref.mu20));
+    CHECK(m.mu11 == doctest::Approx(ref.mu11));
+    for (std::size_t k = 0; k < 7; ++k) CHECK(m.hu[k] == doctest::Approx(ref.hu[k]).epsilon(1e-9));
+  }
+  // The total is the sum where a double holds it, infinite only beyond.
+  CHECK(compute_moments(TactileImage(bar * 1e307)).total == doctest::Approx(3e307));
+  CHECK(std::isinf(compute_moments(TactileImage(bar * 1e308)).total));
+  Eigen::MatrixXd tiny = Eigen::MatrixXd::Zero(14, 6);
+  tiny(3, 1) = 5e-324;
+  const ImageMoments t = compute_moments(TactileImage(tiny));
+  CHECK(t.centroid.x() == 1.0 - 2.5);
+  CHECK(t.centroid.y() == 3.0 - 6.5);
+  CHECK(t.total == 5e-324);
+  CHECK(t.mu20 == 0.0);
+}
+
 TEST_CASE("moments: bars give the expected centroid and orientation") {
   Eigen::MatrixXd row_bar = Eigen::MatrixXd::Zero(14, 6);
   row_bar.row(5).setConstant(1000.0);

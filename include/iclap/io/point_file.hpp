@@ -43,6 +43,11 @@ inline Eigen::MatrixXd read_point_file(std::istream& in, const std::string& name
     ++line_no;
     if (line_no == 1 && line.size() >= 3 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
     if (!line.empty() && line.back() == '\r') line.pop_back();
+    // A carriage return left inside the line is a line break of another
+    // system (old Mac files): read as a space, it made the whole file one
+    // point of many coordinates.
+    if (line.find('\r') != std::string::npos)
+      throw ParseError(name, line_no, "carriage return inside the line (line breaks must be \\n or \\r\\n)");
     const auto first = line.find_first_not_of(" \t");
     if (first == std::string::npos || line[first] == '#') continue;
     tokens.clear();

@@ -295,8 +295,10 @@ class MeshBvh {
       if (ext[1] > ext[axis]) axis = 1;
       if (ext[2] > ext[axis]) axis = 2;
       std::size_t mid = task.begin + count / 2;
-      if (ext[axis] <= 0) {
-        // All centroids coincide: split by index.
+      if (!(ext[axis] > 0 && std::isfinite(kBins / ext[axis]) && kBins / ext[axis] > 0)) {
+        // All centroids coincide, or they span more than a double (the
+        // bins' scale would be 0 and inf * 0 a NaN cast to int): split by
+        // index.
       } else {
         const double lo = cbox.min()[axis], scale = kBins / ext[axis];
         auto bin_of = [&](std::int32_t t) {

@@ -75,18 +75,26 @@ inline std::string_view next_token(std::string_view& s) {
   return tok;
 }
 
+/// `t` without one leading '+'; false for a sign after it ("++1", "+-1",
+/// which from_chars would read as -1) or nothing left.
+inline bool strip_plus(std::string_view& t) {
+  if (!t.empty() && t.front() == '+') {
+    t.remove_prefix(1);
+    if (!t.empty() && (t.front() == '+' || t.front() == '-')) return false;
+  }
+  return !t.empty();
+}
+
 /// A whole token as a finite double (a leading '+' allowed).
 inline bool token_to_double(std::string_view t, double& v) {
-  if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-  if (t.empty() || t.front() == '+') return false;
+  if (!strip_plus(t)) return false;
   const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
   return r.ec == std::errc() && r.ptr == t.data() + t.size() && std::isfinite(v);
 }
 
 /// A whole token as an integer (a leading '+' allowed).
 inline bool token_to_int64(std::string_view t, std::int64_t& v) {
-  if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-  if (t.empty() || t.front() == '+') return false;
+  if (!strip_plus(t)) return false;
   const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
   return r.ec == std::errc() && r.ptr == t.data() + t.size();
 }

@@ -163,6 +163,20 @@ class PlyValueReader {
     if (integral) {
       std::int64_t i = 0;
       if (!token_to_int64(tok, i)) fail(what + ": " + show_token(tok) + " is not an integer");
+      // Within the declared type, as a binary file's bytes always are (a
+      // uchar of 300 or -5 was taken as it was written).
+      std::int64_t lo = 0, hi = 0;
+      switch (t) {
+        case PlyType::int8: lo = -128, hi = 127; break;
+        case PlyType::uint8: hi = 255; break;
+        case PlyType::int16: lo = -32768, hi = 32767; break;
+        case PlyType::uint16: hi = 65535; break;
+        case PlyType::int32: lo = -2147483648LL, hi = 2147483647LL; break;
+        default: hi = 4294967295LL; break;  // uint32
+      }
+      if (i < lo || i > hi)
+        fail(what + ": " + show_token(tok) + " is out of the range of its type [" + std::to_string(lo) + ", " +
+             std::to_string(hi) + "]");
       v = static_cast<double>(i);
     } else if (!token_to_double(tok, v)) {
       fail(what + ": " + show_token(tok) + " is not a finite number");

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 #include <Eigen/Core>
 
@@ -20,7 +21,8 @@ namespace iclap {
 /// at the centre of the grid, so taxel (r, c) sits at
 /// (c - (cols - 1) / 2, r - (rows - 1) / 2). A blank image has every field 0.
 struct ImageMoments {
-  /// Total pressure m00 = sum of the taxels, raw units.
+  /// Total pressure m00 = sum of the taxels, raw units (infinite only when
+  /// the sum is beyond the range of a double; the other fields stay finite).
   double total = 0.0;
   /// Pressure centroid (x, y), taxels from the grid centre.
   Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
@@ -48,22 +50,37 @@ inline ImageMoments compute_moments(const TactileImage& image) noexcept {
   const double y0 = 0.5 * static_cast<double>(rows - 1);
 
   double m00 = 0.0, m10 = 0.0, m01 = 0.0;
-  for (Index c = 0; c < cols; ++c) {
-    for (Index r = 0; r < rows; ++r) {
-      const double p = image(r, c);
-      m00 += p;
-      m10 += p * (static_cast<double>(c) - x0);
-      m01 += p * (static_cast<double>(r) - y0);
+  auto first_moments = [&](double divisor) {
+    m00 = m10 = m01 = 0.0;
+    for (Index c = 0; c < cols; ++c) {
+      for (Index r = 0; r < rows; ++r) {
+        const double p = image(r, c) / divisor;
+        m00 += p;
+        m10 += p * (static_cast<double>(c) - x0);
+        m01 += p * (static_cast<double>(r) - y0);
+      }
     }
-  }
+  };
+  first_moments(1.0);
   if (!(m00 > 0.0)) return m;
-  m.total = m00;
+  const double peak = image.max();
+  // Pressures whose sums overflow (two taxels at 1e308 gave an infinite
+  // total and a NaN centroid) or whose peak is subnormal (its products
+  // round off the centroid) are summed scaled to a peak of 1; the total is
+  // then scaled back (infinite only where it is beyond a double). Others are
+  // summed as they are, bit for bit.
+  if (!(std::isfinite(m00) && std::isfinite(m10) && std::isfinite(m01)) ||
+      peak < std::numeric_limits<double>::min()) {
+    first_moments(peak);
+    m.total = m00 * peak;
+  } else {
+    m.total = m00;
+  }
   const double cx = m10 / m00;
   const double cy = m01 / m00;
   m.centroid = Eigen::Vector2d(cx, cy);
 
   // Central moments up to order 3 of the peak-normalised image.
-  const double peak = image.max();
   double u00 = 0.0, u20 = 0.0, u11 = 0.0, u02 = 0.0, u30 = 0.0, u21 = 0.0, u12 = 0.0, u03 = 0.0;
   for (Index c = 0; c < cols; ++c) {
     for (Index r = 0; r < rows; ++r) {
