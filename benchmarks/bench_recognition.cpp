@@ -8,6 +8,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,7 +30,10 @@ struct Scene {
   TouchSet all;
   std::vector<TouchSet> objects;
   std::vector<TouchSet> tests;  // one per object
-  std::vector<std::vector<Index>> test_rows;  // the tests as rows of `all`
+  /// Every object's exploration 0, the pool the cross validation draws a
+  /// fold's tests from, and the tests as touches of it.
+  TouchSet pool;
+  std::vector<std::vector<Index>> pool_rows;
   Index k = 50;
 
   Scene() {
@@ -40,10 +44,17 @@ struct Scene {
     bench::HeldOut split = bench::hold_out_exploration_zero(table, k);
     all = std::move(split.all);
     objects = std::move(split.references);
+    std::vector<Index> members;  // rows of `all` in the pool, ascending
+    for (const auto& h : split.held_out) members.insert(members.end(), h.begin(), h.end());
+    std::sort(members.begin(), members.end());
+    pool = select_touches(all, members);
     for (Index o = 0; o < static_cast<Index>(objects.size()); ++o) {
       Rng rng = Rng::derive(1, static_cast<std::uint64_t>(o));
-      test_rows.push_back(bench::random_subset(split.held_out[static_cast<std::size_t>(o)], 20, rng));
-      tests.push_back(select_touches(all, test_rows.back()));
+      const std::vector<Index> rows = bench::random_subset(split.held_out[static_cast<std::size_t>(o)], 20, rng);
+      tests.push_back(select_touches(all, rows));
+      pool_rows.emplace_back();
+      for (Index r : rows)
+        pool_rows.back().push_back(static_cast<Index>(std::lower_bound(members.begin(), members.end(), r) - members.begin()));
     }
   }
 };
@@ -138,20 +149,22 @@ void BM_LeafSize(benchmark::State& state) {
 }
 
 /// All 20 distances of the same tests as BM_LeafSize (default settings),
-/// each taken as a subset of a pool that the classifier prepared
-/// once, outside the timing (Classifier::prepare_pool: every touch's first
-/// matches): the path of the cross validation. Same distances; the
-/// registrations skip their first round of queries.
+/// each taken as a subset of the pool of every object's exploration 0, which
+/// the classifier prepared once, outside the timing
+/// (Classifier::prepare_pool: every touch's first matches): the path of the
+/// cross validation. Same distances; the registrations skip their first
+/// round of queries. Includes the check that the preparation was made for
+/// the drawn touches (BM_PoolCheck).
 template <typename C>
 void BM_PoolDistances(benchmark::State& state) {
   const Scene& s = scene();
   C c;
   c.fit(s.objects, s.k);
-  const auto prepared = c.prepare_pool(s.all);
+  const auto prepared = c.prepare_pool(s.pool);
   Eigen::VectorXd d(static_cast<Index>(s.objects.size()));
   std::size_t i = 0;
   for (auto _ : state) {
-    c.pool_distances(s.all, prepared.get(), s.test_rows[i++ % s.test_rows.size()], d);
+    c.pool_distances(s.pool, prepared.get(), s.pool_rows[i++ % s.pool_rows.size()], d);
     benchmark::DoNotOptimize(d.data());
   }
 }
@@ -251,6 +264,24 @@ BENCHMARK_CAPTURE(BM_Recognition, occupancy_plus_height_contact, std::string("0.
 // directly in BM_Recognition/occupancy (which adds the fusion and the
 // decision).
 BENCHMARK_TEMPLATE(BM_PoolDistances, OccupancyClassifier);
+
+namespace {
+/// What every prepared pool_distances call pays to check that its
+/// preparation was made for the drawn touches (PreparedPool::made_for): the
+/// pool's shape and the fingerprints of the 20 drawn touches of the tests
+/// of BM_PoolDistances. Compare with BM_PoolDistances<OccupancyClassifier>,
+/// the cheapest path that pays it.
+void BM_PoolCheck(benchmark::State& state) {
+  const Scene& s = scene();
+  std::size_t i = 0;
+  for (auto _ : state) {
+    std::uint64_t h = detail::pool_shape(s.pool);
+    for (Index t : s.pool_rows[i++ % s.pool_rows.size()]) h ^= detail::touch_fingerprint(s.pool, t);
+    benchmark::DoNotOptimize(h);
+  }
+}
+}  // namespace
+BENCHMARK(BM_PoolCheck);
 BENCHMARK(BM_OccupancyLookup)->Arg(0)->Arg(1)->ArgName("kdtree");
 BENCHMARK_CAPTURE(BM_Recognition, height, std::string("height"));
 BENCHMARK_CAPTURE(BM_Recognition, height_contact, std::string("height_contact"));

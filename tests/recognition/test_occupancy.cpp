@@ -366,6 +366,22 @@ TEST_CASE("occupancy: pool distances equal the distances of the subset, bit for 
   const TouchSet same_size = pad_touches(kSmall, centres);
   REQUIRE(same_size.size() == pool.size());
   CHECK(error_of([&] { c.pool_distances(same_size, prepared.get(), {0}, d); }).find("prepared") != std::string::npos);
+  // A drawn touch's free or contact points moved by a bit: refused; the
+  // offsets of another pool pointing past its points: refused, nothing read
+  // outside it (AddressSanitizer checks the reads in CI).
+  TouchSet moved_free = pool;
+  REQUIRE(moved_free.free_of(4) > 0);
+  double& x = moved_free.free_points(0, moved_free.free_offsets[4]);
+  x = std::nextafter(x, 1.0);
+  CHECK(error_of([&] { c.pool_distances(moved_free, prepared.get(), {4}, d); }).find("prepared") != std::string::npos);
+  CHECK(error_of([&] { c.pool_distances(moved_free, prepared.get(), {3, 5}, d); }).empty());
+  TouchSet moved_contact = pool;
+  REQUIRE(moved_contact.contacts_of(2) > 0);
+  moved_contact.contact_points(2, moved_contact.contact_offsets[2]) += 1e-3;
+  CHECK(error_of([&] { c.pool_distances(moved_contact, prepared.get(), {2}, d); }).find("prepared") != std::string::npos);
+  TouchSet corrupt = pool;
+  corrupt.free_offsets[7] = corrupt.free_points.cols() + 100;
+  CHECK(error_of([&] { c.pool_distances(corrupt, prepared.get(), {6}, d); }).find("prepared") != std::string::npos);
   c.fit(training(), 0);
   CHECK(error_of([&] { c.pool_distances(pool, prepared.get(), {0}, d); }).find("prepared") != std::string::npos);
 }

@@ -397,14 +397,50 @@ TEST_CASE("a prepared pool is refused by another classifier, pool or fit") {
   icp.pool_distances(pool, prepared.get(), {0, 1}, out);  // still valid
   icp.fit(sc.objects, 4);                                 // a refit makes it stale
   CHECK(argument([&] { icp.pool_distances(pool, prepared.get(), {0, 1}, out); }) == "prepared");
-  // A pool of the same size but other touches: its fingerprint differs
-  // (detail::pool_fingerprint), one position by a bit is enough.
+  // A pool of the same size but other touches: the drawn touches'
+  // fingerprints differ (detail::touch_fingerprint), one position by a bit
+  // is enough.
   TouchSet moved = pool;
   moved.positions.row(0).array() += 0.01;
   const auto fresh = icp.prepare_pool(pool);
   CHECK(argument([&] { icp.pool_distances(moved, fresh.get(), {0, 1}, out); }) == "prepared");
   TouchSet nudged = pool;
-  nudged.positions(2, 3) = std::nextafter(nudged.positions(2, 3), 1.0);
+  nudged.positions(2, 1) = std::nextafter(nudged.positions(2, 1), 1.0);
   CHECK(argument([&] { icp.pool_distances(nudged, fresh.get(), {0, 1}, out); }) == "prepared");
   icp.pool_distances(TouchSet(pool), fresh.get(), {0, 1}, out);  // a copy is the same pool
+  // Another classifier type's preparation of this very pool, and a
+  // preparation a user type made without a fit and pool.
+  IclapClassifier<float, Planar> iclap;
+  iclap.fit(sc.objects, 4);
+  const auto foreign = iclap.prepare_pool(pool);
+  REQUIRE(foreign);
+  Eigen::VectorXd with(4), without(4);
+  iclap.pool_distances(pool, foreign.get(), {0, 1}, with);
+  iclap.pool_distances(pool, nullptr, {0, 1}, without);
+  CHECK(with == without);
+  CHECK(argument([&] { icp.pool_distances(pool, foreign.get(), {0, 1}, out); }) == "prepared");
+  // Only the drawn touches are compared: a change elsewhere in the pool
+  // leaves the draw's distances what they were, a change in a drawn touch's
+  // word or descriptor (which iCLAP and iCLAP-N read) is refused.
+  TouchSet elsewhere = pool;
+  elsewhere.positions(0, 5) += 0.01;
+  Eigen::VectorXd same(4);
+  icp.pool_distances(elsewhere, fresh.get(), {0, 1}, same);
+  icp.pool_distances(pool, nullptr, {0, 1}, out);
+  CHECK(same == out);
+  TouchSet reworded = pool;
+  reworded.words(1) = (reworded.words(1) + 1) % 4;
+  CHECK(argument([&] { icp.pool_distances(reworded, fresh.get(), {0, 1}, out); }) == "prepared");
+  TouchSet described = pool;
+  described.features = Eigen::MatrixXf::Constant(2, pool.size(), 0.5f);
+  const auto with_features = icp.prepare_pool(described);
+  TouchSet redescribed = described;
+  redescribed.features(1, 0) = std::nextafter(0.5f, 1.0f);
+  CHECK(argument([&] { icp.pool_distances(redescribed, with_features.get(), {0, 1}, out); }) == "prepared");
+  CHECK(argument([&] { icp.pool_distances(redescribed, with_features.get(), {1, 2}, out); }) == "(no exception)");
+  CHECK(argument([&] { icp.pool_distances(pool, with_features.get(), {1, 2}, out); }) == "prepared");  // shape
+  struct Bare final : PreparedPool {};
+  const Bare bare;
+  CHECK_FALSE(bare.made_for(0, pool, {0, 1}));
+  CHECK(argument([&] { icp.pool_distances(pool, &bare, {0, 1}, out); }) == "prepared");
 }

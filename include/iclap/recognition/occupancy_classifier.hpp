@@ -253,10 +253,7 @@ class OccupancyClassifier final : public Classifier {
     check_fitted("prepare_pool");
     pool.validate("pool");
     require_taxels(pool, "pool");
-    auto prepared = std::make_shared<Costs>();
-    prepared->fit = fit_id_;
-    prepared->touches = pool.size();
-    prepared->pool = detail::pool_fingerprint(pool);
+    auto prepared = std::make_shared<Costs>(fit_id_, pool);
     prepared->costs.resize(references_.size());
     for (Index j = 0; j < objects(); ++j) touch_costs(pool, j, prepared->costs[static_cast<std::size_t>(j)]);
     return prepared;
@@ -269,11 +266,7 @@ class OccupancyClassifier final : public Classifier {
   void pool_distances(const TouchSet& pool, const PreparedPool* prepared, const std::vector<Index>& subset,
                       Eigen::Ref<Eigen::VectorXd> out) const override {
     if (!prepared) return Classifier::pool_distances(pool, prepared, subset, out);
-    const auto* costs = dynamic_cast<const Costs*>(prepared);
-    if (!costs || costs->fit != fit_id_ || costs->touches != pool.size() ||
-        costs->pool != detail::pool_fingerprint(pool))
-      throw InvalidArgument("prepared", "was not made by prepare_pool of this classifier for this pool since its last fit");
-    checked_subset(pool, subset);
+    const Costs* costs = checked_preparation<Costs>(prepared, fit_id_, pool, subset);
     check_dimension(out.size(), objects(), "out");
     if (subset.empty()) throw EmptyInput("test", "holds no touch");
     for (Index j = 0; j < objects(); ++j) out(j) = best_sum(costs->costs[static_cast<std::size_t>(j)], pool.size(), subset);
@@ -288,9 +281,7 @@ class OccupancyClassifier final : public Classifier {
     double truncation = 0, free_radius = 0, conflict_weight = 0, unknown_cost = 1;
   };
   struct Costs final : PreparedPool {
-    std::uint64_t fit = 0;
-    Index touches = 0;
-    std::uint64_t pool = 0;  // detail::pool_fingerprint
+    Costs(std::uint64_t fit_id, const TouchSet& pool) : PreparedPool(fit_id, pool) {}
     std::vector<std::vector<double>> costs;  // per object: placements x touches, touch fastest
   };
 

@@ -410,9 +410,7 @@ class RegistrationClassifier final : public Classifier {
         return nullptr;
       pool.validate("pool");
       check_embedded_dimension(pool, "pool");
-      auto prepared = std::make_shared<FirstMatches>();
-      prepared->fit = fit_id_;
-      prepared->pool = detail::pool_fingerprint(pool);
+      auto prepared = std::make_shared<FirstMatches>(fit_id_, pool);
       // The pool's points touch by touch, as a test made of them has them.
       std::vector<Cloud<Scalar, Dim>> parts(static_cast<std::size_t>(pool.size()));
       prepared->offsets.assign(1, 0);
@@ -442,11 +440,7 @@ class RegistrationClassifier final : public Classifier {
   void pool_distances(const TouchSet& pool, const PreparedPool* prepared, const std::vector<Index>& subset,
                       Eigen::Ref<Eigen::VectorXd> out) const override {
     const TouchSet test = select_touches(pool, checked_subset(pool, subset));
-    const auto* first = dynamic_cast<const FirstMatches*>(prepared);
-    if (prepared && (!first || first->fit != fit_id_ || first->touches() != pool.size() ||
-                     first->pool != detail::pool_fingerprint(pool)))
-      throw InvalidArgument("prepared",
-                            "was not made by prepare_pool of this classifier for this pool since its last fit");
+    const FirstMatches* first = checked_preparation<FirstMatches>(prepared, fit_id_, pool, subset);
     compute_distances(test, first, &subset, out);
   }
 
@@ -663,11 +657,9 @@ class RegistrationClassifier final : public Classifier {
 
   /// What `prepare_pool` computes.
   struct FirstMatches final : PreparedPool {
-    std::uint64_t fit = 0;   // fit_id_ of the classifier at preparation
-    std::uint64_t pool = 0;  // detail::pool_fingerprint of the pool
+    FirstMatches(std::uint64_t fit_id, const TouchSet& pool) : PreparedPool(fit_id, pool) {}
     /// Pool touch i's points are columns offsets[i] .. offsets[i + 1] - 1.
     std::vector<Index> offsets;
-    Index touches() const { return static_cast<Index>(offsets.size()) - 1; }  // pool size
     /// matches[object][point]: the point's first match in that reference.
     std::vector<std::vector<Neighbor<Scalar>>> matches;
   };
