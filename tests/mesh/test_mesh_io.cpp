@@ -163,6 +163,67 @@ TEST_CASE("mesh io: more malformed input, from streams") {
   CHECK(obj_error("v +1 0 0\nv 1 0 0\nv 0 1 0\nf +1 2 3\n") == "accepted");
 }
 
+TEST_CASE("mesh io: ASCII STL and PLY header lines hold what their syntax allows, no more") {
+  auto error = [](auto load, const std::string& text, const std::string& name) {
+    std::istringstream in(text);
+    try {
+      load(in, name);
+    } catch (const iclap::ParseError& e) {
+      return std::to_string(e.line()) + ": " + e.reason();
+    }
+    return std::string("accepted");
+  };
+  auto stl = [&](const std::string& normal, const std::string& vertex, const std::string& tail = "") {
+    return error([](std::istream& in, const std::string& n) { return iclap::load_stl(in, n); },
+                 "solid a\nfacet normal " + normal + "\nouter loop" + tail + "\nvertex " + vertex +
+                     "\nvertex 1 0 0\nvertex 0 1 0\nendloop" + tail + "\nendfacet" + tail + "\nendsolid a\n",
+                 "s.stl");
+  };
+  CHECK(stl("0 0 1", "0 0 0") == "accepted");
+  // The normal is ignored, but it is three numbers: NaN and infinities as
+  // exporters write them for degenerate facets are numbers, words are not.
+  CHECK(stl("nan -nan inf", "0 0 0") == "accepted");
+  CHECK(stl("-1.#IND00 1.#QNAN 1.#INF", "0 0 0") == "accepted");
+  CHECK(stl("1e999 0 0", "0 0 0") == "accepted");
+  CHECK(stl("nan banana 0", "0 0 0") == "2: facet normal component 'banana' is not a number");
+  CHECK(stl("1.#banana 0 0", "0 0 0") == "2: facet normal component '1.#banana' is not a number");
+  CHECK(stl("2.#IND 0 0", "0 0 0") == "2: facet normal component '2.#IND' is not a number");
+  CHECK(stl("0 0", "0 0 0") == "2: facet normal needs three components");
+  CHECK(stl("0 0 1 7", "0 0 0") == "2: unexpected '7' after the facet normal");
+  CHECK(error([](std::istream& in, const std::string& n) { return iclap::load_stl(in, n); },
+              "solid a\nfacet\nouter loop\n", "s.stl") == "2: expected 'facet normal NX NY NZ'");
+  // Junk after the three coordinates used to be dropped silently.
+  CHECK(stl("0 0 1", "0 0 0 junk") == "4: unexpected 'junk' after the vertex's three coordinates");
+  CHECK(stl("0 0 1", "0 0 0 1") == "4: unexpected '1' after the vertex's three coordinates");
+  CHECK(stl("0 0 1", "0 0 0", " x") == "3: unexpected 'x' after 'outer loop'");
+
+  auto ply = [&](const std::string& text) {
+    return error([](std::istream& in, const std::string& n) { return iclap::load_ply(in, n); }, text, "s.ply");
+  };
+  const std::string body = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  auto header = [](const std::string& format, const std::string& vertex, const std::string& x, const std::string& end) {
+    return "ply\n" + format + "\n" + vertex + "\n" + x +
+           "\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n" + end +
+           "\n";
+  };
+  CHECK(ply(header("format ascii 1.0", "element vertex 3", "property float x", "end_header") + body) == "accepted");
+  CHECK(ply(header("format ascii 1.0 junk", "element vertex 3", "property float x", "end_header") + body) ==
+        "2: unexpected 'junk' after 'format ascii 1.0'");
+  CHECK(ply(header("format ascii 1.0", "element vertex 3 junk", "property float x", "end_header") + body) ==
+        "3: unexpected 'junk' after 'element NAME COUNT'");
+  CHECK(ply(header("format ascii 1.0", "element vertex 3", "property float x x2", "end_header") + body) ==
+        "4: unexpected 'x2' after the property name 'x'");
+  CHECK(ply(header("format ascii 1.0", "element vertex 3", "property float x", "end_header now") + body) ==
+        "9: unexpected 'now' after 'end_header'");
+  // A second vertex element (the first one's data was dropped) and a second
+  // property of a name (the last one won).
+  CHECK(ply("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nelement vertex 3\n") ==
+        "5: a second element 'vertex' (the first at line 3): which one holds the data is ambiguous");
+  CHECK(ply(header("format ascii 1.0", "element vertex 3", "property float x\nproperty double x", "end_header") + body) ==
+        "5: element 'vertex' has a second property 'x'");
+  CHECK(ply("ply\nformat ascii 1.0\nformat binary_little_endian 1.0\n") == "3: a second 'format' line");
+}
+
 TEST_CASE("mesh io: load_mesh picks the format by extension, units") {
   CHECK_THROWS_AS(iclap::load_mesh(fixture("make_fixtures.py")), iclap::InvalidArgument);
   CHECK_THROWS_AS(iclap::load_mesh(fixture("missing.obj")), iclap::IoError);

@@ -102,6 +102,15 @@ inline bool token_to_int64(std::string_view t, std::int64_t& v) {
 /// A token for a message: quote_text(t, 40).
 inline std::string show_token(std::string_view t) { return quote_text(t, 40); }
 
+/// Throws ParseError at line `line` of `name` when `rest` (what is left of
+/// a line after its tokens were read) holds another token: "unexpected
+/// 'junk' after `after`". A line with more than its syntax allows is
+/// malformed, not silently cut.
+inline void expect_line_end(std::string_view rest, const std::string& name, std::size_t line, const std::string& after) {
+  const std::string_view extra = next_token(rest);
+  if (!extra.empty()) throw ParseError(name, line, "unexpected " + show_token(extra) + " after " + after);
+}
+
 inline bool starts_with(std::string_view s, std::string_view prefix) {
   return s.size() >= prefix.size() && s.compare(0, prefix.size(), prefix) == 0;
 }

@@ -53,19 +53,29 @@ inline bool ply_type_from_name(std::string_view n, PlyType& t) {
   return false;
 }
 
-inline std::size_t ply_type_size(PlyType t) {
+/// What a PLY scalar type is: its size in bytes and, for the integer
+/// types, the range of its values.
+struct PlyTypeInfo {
+  std::size_t size = 0;
+  bool integral = false;
+  std::int64_t lo = 0, hi = 0;  // integer types only
+};
+
+inline PlyTypeInfo ply_type_info(PlyType t) {
   switch (t) {
-    case PlyType::int8:
-    case PlyType::uint8: return 1;
-    case PlyType::int16:
-    case PlyType::uint16: return 2;
-    case PlyType::int32:
-    case PlyType::uint32:
-    case PlyType::float32: return 4;
-    case PlyType::float64: return 8;
+    case PlyType::int8: return {1, true, -128, 127};
+    case PlyType::uint8: return {1, true, 0, 255};
+    case PlyType::int16: return {2, true, -32768, 32767};
+    case PlyType::uint16: return {2, true, 0, 65535};
+    case PlyType::int32: return {4, true, -2147483648LL, 2147483647LL};
+    case PlyType::uint32: return {4, true, 0, 4294967295LL};
+    case PlyType::float32: return {4, false, 0, 0};
+    case PlyType::float64: return {8, false, 0, 0};
   }
-  return 0;
+  return {};
 }
+
+inline std::size_t ply_type_size(PlyType t) { return ply_type_info(t).size; }
 
 struct PlyProperty {
   std::string name;
@@ -159,24 +169,15 @@ class PlyValueReader {
     while (end < data_.size() && !is_space(data_[end]) && data_[end] != '\n') ++end;
     const std::string_view tok = data_.substr(pos_, end - pos_);
     double v = 0;
-    const bool integral = t != PlyType::float32 && t != PlyType::float64;
-    if (integral) {
+    const PlyTypeInfo type = ply_type_info(t);
+    if (type.integral) {
       std::int64_t i = 0;
       if (!token_to_int64(tok, i)) fail(what + ": " + show_token(tok) + " is not an integer");
       // Within the declared type, as a binary file's bytes always are (a
       // uchar of 300 or -5 was taken as it was written).
-      std::int64_t lo = 0, hi = 0;
-      switch (t) {
-        case PlyType::int8: lo = -128, hi = 127; break;
-        case PlyType::uint8: hi = 255; break;
-        case PlyType::int16: lo = -32768, hi = 32767; break;
-        case PlyType::uint16: hi = 65535; break;
-        case PlyType::int32: lo = -2147483648LL, hi = 2147483647LL; break;
-        default: hi = 4294967295LL; break;  // uint32
-      }
-      if (i < lo || i > hi)
-        fail(what + ": " + show_token(tok) + " is out of the range of its type [" + std::to_string(lo) + ", " +
-             std::to_string(hi) + "]");
+      if (i < type.lo || i > type.hi)
+        fail(what + ": " + show_token(tok) + " is out of the range of its type [" + std::to_string(type.lo) + ", " +
+             std::to_string(type.hi) + "]");
       v = static_cast<double>(i);
     } else if (!token_to_double(tok, v)) {
       fail(what + ": " + show_token(tok) + " is not a finite number");
@@ -211,6 +212,8 @@ inline PlyContent parse_ply(std::string_view data, const std::string& name, bool
       else if (f == "binary_big_endian") format = PlyFormat::binary_be;
       else throw ParseError(name, ln, "unknown PLY format " + show_token(f));
       if (next_token(rest) != "1.0") throw ParseError(name, ln, "unsupported PLY version (expected 1.0)");
+      expect_line_end(rest, name, ln, "'format " + std::string(f) + " 1.0'");
+      if (have_format) throw ParseError(name, ln, "a second 'format' line");
       have_format = true;
     } else if (key == "element") {
       PlyElement e;
@@ -218,6 +221,11 @@ inline PlyContent parse_ply(std::string_view data, const std::string& name, bool
       std::int64_t count = -1;
       if (e.name.empty() || !token_to_int64(next_token(rest), count) || count < 0)
         throw ParseError(name, ln, "expected 'element NAME COUNT'");
+      expect_line_end(rest, name, ln, "'element NAME COUNT'");
+      for (const auto& other : elements)
+        if (other.name == e.name)
+          throw ParseError(name, ln, "a second element " + show_token(e.name) + " (the first at line " +
+                                         std::to_string(other.line) + "): which one holds the data is ambiguous");
       e.count = static_cast<std::uint64_t>(count);
       e.line = ln;
       elements.push_back(e);
@@ -236,8 +244,14 @@ inline PlyContent parse_ply(std::string_view data, const std::string& name, bool
       if (!ply_type_from_name(type, p.type)) throw ParseError(name, ln, "unknown PLY type " + show_token(type));
       p.name = std::string(next_token(rest));
       if (p.name.empty()) throw ParseError(name, ln, "property has no name");
+      expect_line_end(rest, name, ln, "the property name " + show_token(p.name));
+      for (const auto& other : elements.back().properties)
+        if (other.name == p.name)
+          throw ParseError(name, ln, "element " + show_token(elements.back().name) + " has a second property " +
+                                         show_token(p.name));
       elements.back().properties.push_back(p);
     } else if (key == "end_header") {
+      expect_line_end(rest, name, ln, "'end_header'");
       have_end = true;
       break;
     } else {

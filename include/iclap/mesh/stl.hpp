@@ -4,12 +4,14 @@
 // STL loader (binary and ASCII).
 
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <istream>
 #include <string>
 #include <string_view>
+#include <system_error>
 #include <unordered_map>
 #include <vector>
 
@@ -95,6 +97,27 @@ inline TriangleMesh parse_stl_binary(std::string_view data, const std::string& n
   return finish_welded(weld, tri);
 }
 
+/// Whether `t` can be a component of a facet normal, which the reader
+/// ignores: a number, NaN or an infinity as from_chars spells them ("nan",
+/// "-inf"), or as old Windows C libraries printed them ("1.#QNAN",
+/// "-1.#IND", "1.#INF"; degenerate facets of some exporters carry these).
+/// Words such as "banana" are not.
+inline bool stl_normal_component(std::string_view t) {
+  if (!strip_plus(t)) return false;
+  double v = 0;
+  const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+  if ((r.ec == std::errc() || r.ec == std::errc::result_out_of_range) && r.ptr == t.data() + t.size()) return true;
+  for (std::string_view special : {"#QNAN", "#SNAN", "#IND", "#INF"}) {
+    const std::size_t at = t.find(special);
+    if (at == std::string_view::npos) continue;
+    std::string_view mantissa = t.substr(0, at), digits = t.substr(at + special.size());
+    if (!mantissa.empty() && mantissa.front() == '-') mantissa.remove_prefix(1);
+    if (mantissa != "1.") return false;
+    return digits.find_first_not_of("0123456789") == std::string_view::npos;
+  }
+  return false;
+}
+
 inline TriangleMesh parse_stl_ascii(std::string_view text, const std::string& name) {
   VertexWelder weld;
   std::vector<int> tri, loop;
@@ -115,10 +138,20 @@ inline TriangleMesh parse_stl_ascii(std::string_view text, const std::string& na
       in_solid = false;
     } else if (key == "facet") {
       if (!in_solid || in_facet) throw ParseError(name, ln, "unexpected 'facet'");
-      in_facet = true;  // the normal is recomputed from the vertices
+      if (next_token(rest) != "normal") throw ParseError(name, ln, "expected 'facet normal NX NY NZ'");
+      for (int k = 0; k < 3; ++k) {  // checked, then ignored: the normal is recomputed from the vertices
+        const std::string_view tok = next_token(rest);
+        if (!stl_normal_component(tok))
+          throw ParseError(name, ln,
+                           tok.empty() ? std::string("facet normal needs three components")
+                                       : "facet normal component " + show_token(tok) + " is not a number");
+      }
+      expect_line_end(rest, name, ln, "the facet normal");
+      in_facet = true;
     } else if (key == "outer") {
       if (!in_facet || in_loop || next_token(rest) != "loop")
         throw ParseError(name, ln, "expected 'outer loop' inside a facet");
+      expect_line_end(rest, name, ln, "'outer loop'");
       in_loop = true;
       loop_line = ln;
       loop.clear();
@@ -132,9 +165,11 @@ inline TriangleMesh parse_stl_ascii(std::string_view text, const std::string& na
                            tok.empty() ? std::string("vertex needs three coordinates")
                                        : "vertex coordinate " + show_token(tok) + " is not a finite number");
       }
+      expect_line_end(rest, name, ln, "the vertex's three coordinates");
       loop.push_back(weld.add(c[0], c[1], c[2]));
     } else if (key == "endloop") {
       if (!in_loop) throw ParseError(name, ln, "unexpected 'endloop'");
+      expect_line_end(rest, name, ln, "'endloop'");
       if (loop.size() < 3)
         throw ParseError(name, loop_line, "facet loop has " + std::to_string(loop.size()) + " vertices, needs 3");
       for (std::size_t k = 1; k + 1 < loop.size(); ++k) {
@@ -145,6 +180,7 @@ inline TriangleMesh parse_stl_ascii(std::string_view text, const std::string& na
       in_loop = false;
     } else if (key == "endfacet") {
       if (!in_facet || in_loop) throw ParseError(name, ln, "unexpected 'endfacet'");
+      expect_line_end(rest, name, ln, "'endfacet'");
       in_facet = false;
     } else {
       throw ParseError(name, ln, "unknown ASCII STL keyword " + show_token(key));
