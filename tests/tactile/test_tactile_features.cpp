@@ -266,6 +266,31 @@ TEST_CASE("Tactile-SIFT: L2Clip is L2, clip, L2 again") {
   }
 }
 
+TEST_CASE("Tactile-SIFT: raw histograms keep the pressure scale at the extremes of a double, or are refused") {
+  Rng rng(8);
+  TactileSift<double>::Settings raw;
+  raw.normalization = SiftNormalization::None;
+  const TactileSift<double> sift(raw);
+  for (ContactShape shape : test::kAllShapes) {
+    const Eigen::MatrixXd p = test::synthetic_contact(shape, rng);
+    const Eigen::VectorXd r = sift.compute(TactileImage(p));
+    REQUIRE(r.maxCoeff() > 0);
+    // Squared gradients of 1e300 overflowed (inf entries), of 1e-300
+    // underflowed (zeros); now they scale with the pressure.
+    for (const double scale : {1e300, 1e-300, 1e150, 1e-150}) {
+      const Eigen::VectorXd got = sift.compute(TactileImage(p * scale));
+      REQUIRE(got.allFinite());
+      CHECK((got / scale - r).cwiseAbs().maxCoeff() <= 1e-12 * r.cwiseAbs().maxCoeff());
+    }
+    // Beyond the feature type: refused, naming the image.
+    TactileSift<float>::Settings raw_float;
+    raw_float.normalization = SiftNormalization::None;
+    const TactileSift<float> narrow(raw_float);
+    CHECK(narrow.compute(TactileImage(p * 1e20)).allFinite());
+    CHECK_THROWS_WITH_AS(narrow.compute(TactileImage(p * 1e300)), doctest::Contains("image: the raw"), InvalidArgument);
+  }
+}
+
 TEST_CASE("Tactile-SIFT: a mirrored image gives the permuted descriptor") {
   // Left-right mirror: x -> -x, so cell column j -> sp-1-j and the gradient
   // angle theta -> pi - theta, i.e. bin b (centred on 2 pi b / dn) -> dn/2 - b.

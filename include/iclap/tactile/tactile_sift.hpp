@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <string>
 #include <type_traits>
 
@@ -150,6 +151,9 @@ class TactileSift {
   Index length() const noexcept { return Index(settings_.sp) * settings_.sp * settings_.dn; }
 
   /// The descriptor of `image` (see the class comment for the layout).
+  /// Throws InvalidArgument naming "image" when raw histograms
+  /// (SiftNormalization::None), which scale with the pressure, exceed the
+  /// range of `Scalar`.
   Feature compute(const TactileImage& image) const {
     const int sp = settings_.sp;
     const int dn = settings_.dn;
@@ -163,10 +167,16 @@ class TactileSift {
 
     // With a normalised output the pressure scale cancels; dividing the
     // gradients by the peak keeps their squares clear of underflow for tiny
-    // pressures and of overflow for huge ones. Blank image: nothing to do.
+    // pressures and of overflow for huge ones. The raw histograms (None)
+    // keep the pressure scale: their gradients are taken as they are, or,
+    // for peaks whose squares would overflow or underflow, divided by the
+    // peak and the histograms multiplied by it at the end. Blank image:
+    // nothing to do.
     const double peak = image.max();
     if (!(peak > 0.0)) return Feature::Zero(length());
-    const double divisor = settings_.normalization == SiftNormalization::None ? 1.0 : peak;
+    const bool raw = settings_.normalization == SiftNormalization::None;
+    const bool rescaled = !raw || !(peak >= 1e-150 && peak <= 1e150);
+    const double divisor = rescaled ? peak : 1.0;
     const bool windowed = settings_.window_sigma > 0.0;
     const double sigma_x = settings_.window_sigma * static_cast<double>(w);
     const double sigma_y = settings_.window_sigma * static_cast<double>(h);
@@ -226,6 +236,18 @@ class TactileSift {
       }
     }
     normalize(acc);
+    if (raw) {
+      if (rescaled) acc *= peak;
+      // Raw histograms scale with the pressure: beyond the feature type's
+      // range they are refused, not passed on as infinities.
+      const double largest = acc.cwiseAbs().maxCoeff();
+      if (!(largest <= static_cast<double>(std::numeric_limits<Scalar>::max())))
+        throw InvalidArgument("image", "the raw (SiftNormalization::None) histograms of pressures peaking at " +
+                                           format_value(peak) + " reach " + format_value(largest) +
+                                           ", beyond the range of the feature type (largest " +
+                                           format_value(static_cast<double>(std::numeric_limits<Scalar>::max())) +
+                                           "); normalise them (L2, L2Clip) or scale the pressures");
+    }
     if constexpr (std::is_same_v<Scalar, double>) {
       return acc;
     } else {
