@@ -269,6 +269,42 @@ TEST_CASE("Sensor frame source pairs frames with replayed poses and ends with th
   CHECK(source.description().find(fake.path()) != std::string::npos);
 }
 
+TEST_CASE("Sensor frame source: time runs on across the sensor clock's 32-bit wrap") {
+  FakeSensorScript script;
+  // Frame seq has timestamp 1000 + 200 seq ms modulo 2^32: 4294966600,
+  // ..., 4294967200, then 104 (which read as 0.104 s after 4294967.2 s).
+  const std::size_t first = 21474828;
+  script.first_seq = first;
+  PtyFakeSensor fake(script);
+  SerialPort port(fake.path());
+  WtsSensor sensor(port);
+  ReplayPoseSource poses(std::vector<Pose>(8, Pose{{0, 0, 0}, {}}), "eight poses");
+  sensor.query_matrix_info();
+  SensorFrameSource source(sensor, poses);
+  sensor.start_periodic_frames(5.0);
+  PosedFrame pf;
+  std::vector<double> times;
+  std::uint64_t first_ms = 0;  // the unwrapped timestamp of the first frame received
+  bool wrapped = false;
+  while (source.next(pf, 2000ms) == FrameSource::Status::kFrame) {
+    REQUIRE(pf.time);
+    // The pressures carry seq modulo 4096^2.
+    const std::size_t span = 4096 * 4096;
+    const std::size_t low = test::fake_frame_seq(pf.pressures(0, 0), pf.pressures(0, 1));
+    const std::size_t seq = first + (low + span - first % span) % span;
+    const std::uint64_t ms = 1000 + 200 * static_cast<std::uint64_t>(seq);
+    if (times.empty()) first_ms = ms;
+    wrapped = wrapped || ms >= (std::uint64_t{1} << 32);
+    // The sensor's first timestamp as sent, then the time elapsed since.
+    CHECK(*pf.time == static_cast<double>(first_ms % (std::uint64_t{1} << 32) + (ms - first_ms)) / 1000.0);
+    times.push_back(*pf.time);
+  }
+  REQUIRE(times.size() == 8);
+  CHECK(wrapped);
+  CHECK(std::is_sorted(times.begin(), times.end()));
+  CHECK(times.back() > 4294967.2);
+}
+
 TEST_CASE("Pose specs") {
   auto fixed = make_pose_source("fixed:0.1,-2,3e-3");
   auto p = fixed->next();
@@ -277,6 +313,19 @@ TEST_CASE("Pose specs") {
   CHECK_FALSE(p->orientation);
   CHECK_FALSE(fixed->has_orientation());
   CHECK(fixed->next()->position == p->position);  // never ends
+  // The norm as it is, not rounded to 6 decimals ("0.000000", "0.999999").
+  auto message = [](const std::string& spec) {
+    try {
+      make_pose_source(spec);
+    } catch (const iclap::InvalidArgument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string tiny = message("fixed:0,0,0,1e-7,0,0,0");
+  CHECK(tiny.find("expected 1 within 1e-6") != std::string::npos);
+  CHECK(tiny.find("e-0") != std::string::npos);
+  CHECK(message("fixed:0,0,0,0.9999986,0,0,0").find("has norm 0.999998") != std::string::npos);
   auto oriented = make_pose_source("fixed:0,0,0,1,0,0,0");
   CHECK(oriented->has_orientation());
   CHECK(oriented->next()->orientation->w() == 1.0);

@@ -509,6 +509,11 @@ TEST_CASE("Parser: a grid whose frames exceed the payload bound raises the bound
     CHECK_THROWS_AS(p.set_grid(Grid{1, 32766}), iclap::InvalidArgument);
     CHECK_NOTHROW(p.set_grid(Grid{1, 32765}));
     CHECK(p.max_payload() == kWtsMaxPayload);
+    // Sides whose product overflows (to 4 and to 0) were taken as small.
+    CHECK_THROWS_AS(p.set_grid(Grid{4, (iclap::Index{1} << 62) + 1}), iclap::InvalidArgument);
+    CHECK_THROWS_AS(p.set_grid(Grid{iclap::Index{1} << 32, iclap::Index{1} << 32}), iclap::InvalidArgument);
+    CHECK_THROWS_AS(p.set_grid(Grid{32765, 32765}), iclap::InvalidArgument);
+    CHECK_NOTHROW(p.set_grid(Grid{5, 6553}));
     WtsStreamParser q;
     q.feed(matrix_info_reply(MatrixInfo{200, 200, 340, 340, 4095}));  // 40000 taxels
     REQUIRE(q.next());

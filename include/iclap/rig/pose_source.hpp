@@ -33,7 +33,7 @@ inline void check_pose(const Pose& pose, const std::string& argument) {
   if (pose.orientation) {
     const double n = pose.orientation->norm();
     if (!std::isfinite(n) || std::abs(n - 1.0) > 1e-6)
-      throw InvalidArgument(argument, "orientation quaternion has norm " + std::to_string(n) + ", expected 1");
+      throw InvalidArgument(argument, "orientation quaternion has norm " + format_exact(n) + ", expected 1 within 1e-6");
   }
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <string>
 
 #include "iclap/core/error.hpp"
@@ -14,7 +15,12 @@ namespace iclap::rig {
 /// Frames from a WTS sensor, each paired with the pose its PoseSource gives
 /// at the moment the frame is decoded (so the pose lags the touch by the
 /// transport latency, a few milliseconds over USB). `time` is the sensor's
-/// timestamp in seconds. Ends (kEnd) when the pose source is exhausted.
+/// timestamp in seconds, unwrapped: the sensor counts milliseconds in 32
+/// bits, which wrap every 49.7 days, so each frame adds its distance from
+/// the previous one modulo 2^32 and time never runs backwards across a
+/// wrap. A clock that steps back (by more than 2^31 ms modulo 2^32: a
+/// sensor reset) is taken as no time passed. Ends (kEnd) when the pose
+/// source is exhausted.
 ///
 /// The sensor must already know its grid (query_matrix_info() or an
 /// override) and is started/stopped by the caller; sensor and pose source
@@ -38,7 +44,14 @@ class SensorFrameSource final : public FrameSource {
     }
     out.pressures = frame->pressures();
     out.pose = std::move(*pose);
-    out.time = frame->timestamp_ms / 1000.0;  // correctly rounded: 1400 ms -> 1.4
+    if (!started_) {
+      elapsed_ms_ = frame->timestamp_ms;
+      started_ = true;
+    } else {
+      const std::uint32_t step = frame->timestamp_ms - last_timestamp_ms_;  // modulo 2^32
+      if (step < 0x80000000u) elapsed_ms_ += step;
+    }
+    out.time = static_cast<double>(elapsed_ms_) / 1000.0;  // correctly rounded: 1400 ms -> 1.4
     last_timestamp_ms_ = frame->timestamp_ms;
     return Status::kFrame;
   }
@@ -58,6 +71,8 @@ class SensorFrameSource final : public FrameSource {
   Grid grid_;
   bool ended_ = false;
   std::uint32_t last_timestamp_ms_ = 0;
+  bool started_ = false;
+  std::uint64_t elapsed_ms_ = 0;  // the unwrapped clock; exact in a double for 285 000 years
 };
 
 }  // namespace iclap::rig

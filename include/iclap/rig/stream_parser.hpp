@@ -159,7 +159,8 @@ class WtsStreamParser {
 
  private:
   static bool usable_grid(const Grid& g) noexcept {
-    return g.rows >= 1 && g.cols >= 1 && static_cast<std::size_t>(g.size()) <= kMaxGridTaxels;
+    // Bounded side by side: rows * cols of a grid set in code could overflow.
+    return g.rows >= 1 && g.cols >= 1 && static_cast<std::size_t>(g.cols) <= kMaxGridTaxels / static_cast<std::size_t>(g.rows);
   }
   static void check_grid(const Grid& g) {
     if (!usable_grid(g))
