@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <doctest/doctest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -190,6 +192,44 @@ TEST_CASE("AtomicFileWriter: all or nothing") {
   std::remove(path.c_str());
   std::remove((path + ".partial").c_str());
   CHECK_THROWS_AS(AtomicFileWriter("/nonexistent-dir/x.txt"), IoError);
+}
+
+TEST_CASE("AtomicFileWriter: through a symbolic link, keeping permissions, with the longest file names") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("iclap_atomic_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "real");
+  auto write = [](const fs::path& p, const std::string& text) {
+    AtomicFileWriter w(p.string());
+    w.stream() << text;
+    w.commit();
+  };
+  // A link is followed: the file it leads to gets the content (it kept the
+  // old one, and the link became a regular file).
+  const fs::path target = dir / "real" / "data.csv", link = dir / "link.csv";
+  write(target, "old\n");
+  fs::create_symlink(fs::path("real") / "data.csv", link);
+  write(link, "new\n");
+  CHECK(fs::is_symlink(fs::symlink_status(link)));
+  CHECK(slurp_file(target.string()) == "new\n");
+  // Permission bits stay (a 0600 file became 0644), even read-only ones.
+  fs::permissions(target, fs::perms::owner_read | fs::perms::owner_write);
+  write(target, "private\n");
+  CHECK((fs::status(target).permissions() & fs::perms::all) == (fs::perms::owner_read | fs::perms::owner_write));
+  fs::permissions(target, fs::perms::owner_read);
+  write(target, "read-only\n");
+  CHECK((fs::status(target).permissions() & fs::perms::all) == fs::perms::owner_read);
+  CHECK(slurp_file(target.string()) == "read-only\n");
+  // A 250-byte name, with no room for the ".partial-PID-N" suffix.
+  const fs::path long_name = dir / std::string(250, 'n');
+  write(long_name, "long\n");
+  CHECK(slurp_file(long_name.string()) == "long\n");
+  // A loop of links is an error naming the path.
+  fs::create_symlink("b", dir / "a");
+  fs::create_symlink("a", dir / "b");
+  CHECK_THROWS_WITH_AS(AtomicFileWriter((dir / "a").string()), doctest::Contains("symbolic links"), IoError);
+  CHECK(std::distance(fs::directory_iterator(dir), fs::directory_iterator()) == 5);  // real, link, long, a, b
+  fs::remove_all(dir);
 }
 
 TEST_CASE("parallel_for visits every item once; ProgressCounter reports them one at a time, in order") {

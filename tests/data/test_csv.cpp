@@ -436,6 +436,14 @@ TEST_CASE("dataset csv appender: create, append, reopen, mismatched header, comp
     bad = ds.frames[0];
     bad.pressures(0, 0) = -1;
     CHECK_THROWS_AS(app.append(bad), iclap::InvalidArgument);
+    // The pressure as it is: std::to_string showed -1e-9 as -0.000000.
+    bad.pressures(0, 0) = -1e-9;
+    CHECK_THROWS_WITH_AS(app.append(bad), doctest::Contains("taxel p0_0 is -1e-09, pressures must be"),
+                         iclap::InvalidArgument);
+    CHECK(slurp(path) == before);
+    // A moved-from appender refuses to append (it wrote through a null FILE).
+    iclap::DatasetCsvAppender moved(std::move(app));
+    CHECK_THROWS_WITH_AS(app.append(ds.frames[0]), doctest::Contains("moved from"), iclap::WriteError);  // NOLINT(bugprone-use-after-move)
     CHECK(slurp(path) == before);
   }
   {

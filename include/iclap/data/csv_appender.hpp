@@ -110,6 +110,8 @@ class DatasetCsvAppender {
   /// is written. IoError if the write fails.
   void append(const Frame& f) {
     if (failed_) throw WriteError(path_, "an earlier write failed; the appender is closed");
+    if (!file_)  // moved from (its path went with it)
+      throw WriteError("DatasetCsvAppender", "this appender was moved from; append through the one it was moved to");
     detail::validate_frame(f, columns_, "frame");
     row_.clear();
     detail::append_row(row_, f, slots_);

@@ -126,7 +126,7 @@ inline void validate_frame(const Frame& f, const DatasetColumns& columns, const 
       if (!std::isfinite(p) || p < 0)
         throw InvalidArgument(where + ".pressures",
                               "taxel " + DatasetColumns::taxel_name(r, c) + " is " +
-                                  std::to_string(p) + ", pressures must be finite and >= 0");
+                                  format_exact(p) + ", pressures must be finite and >= 0");
     }
   for (int i = 0; i < 3; ++i)
     if (!std::isfinite(f.position[i]))

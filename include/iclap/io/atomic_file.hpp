@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -12,6 +13,7 @@
 
 #if defined(__unix__) || defined(__APPLE__)
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #endif
 
@@ -19,11 +21,16 @@ namespace iclap {
 
 /// Writes a file all-or-nothing: the content goes to a temporary file beside
 /// the target (`PATH.partial-PID-N`, created exclusively, so it never
-/// replaces a file of that name) and is renamed over `PATH` only by
+/// replaces a file of that name; `DIR/.partial-PID-N` where that name would
+/// be longer than a file name may be) and is renamed over `PATH` only by
 /// `commit()`. If the writer is destroyed without a commit (an exception, a
 /// failed write), the temporary file is removed and `PATH` is left as it
 /// was, so a failed run never leaves a truncated output behind. Rename is
 /// atomic on POSIX file systems.
+///
+/// Where `PATH` is a symbolic link, the file it leads to is replaced and the
+/// link stays. Where `PATH` exists, the new file gets its permission bits
+/// (a 0600 file stays 0600).
 ///
 /// Not thread-safe; one writer per target path.
 class AtomicFileWriter {
@@ -31,7 +38,7 @@ class AtomicFileWriter {
   /// Creates and opens the temporary file; throws IoError naming `path` if
   /// it cannot.
   explicit AtomicFileWriter(std::string path, std::ios::openmode mode = std::ios::out)
-      : path_(std::move(path)), temp_(create_temporary(path_)) {
+      : path_(std::move(path)), target_(resolve_links(path_)), temp_(create_temporary(path_, target_)) {
     out_.open(temp_, mode | std::ios::out | std::ios::trunc);
     if (!out_) {
       const int err = errno;
@@ -66,18 +73,46 @@ class AtomicFileWriter {
     const bool ok = static_cast<bool>(out_);
     out_.close();
     if (!ok || out_.fail()) throw WriteError(path_, "write failed");
-    if (std::rename(temp_.c_str(), path_.c_str()) != 0)
+#if defined(__unix__) || defined(__APPLE__)
+    // The replaced file's permission bits (given after writing, so that a
+    // read-only target is still replaced, as before).
+    struct stat existing {};
+    if (::stat(target_.c_str(), &existing) == 0 && ::chmod(temp_.c_str(), existing.st_mode & 07777) != 0)
+      throw IoError(path_, std::string("cannot give the new file the old one's permissions: ") + std::strerror(errno));
+#endif
+    if (std::rename(temp_.c_str(), target_.c_str()) != 0)
       throw IoError(path_, std::string("cannot move into place: ") + std::strerror(errno));
     committed_ = true;
   }
 
  private:
-  // A new, empty file `path.partial-PID-N` (the first N not taken).
-  static std::string create_temporary(const std::string& path) {
+  /// `path`, or where it is a symbolic link (of a chain), the path it
+  /// finally leads to, so that the rename replaces that file, not the link.
+  /// IoError naming `path` for a loop of links.
+  static std::string resolve_links(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::path p = path;
+    for (int hops = 0; fs::is_symlink(fs::symlink_status(p, ec)); ++hops) {
+      if (hops == 40) throw IoError(path, "cannot open for writing: too many levels of symbolic links");
+      const fs::path link = fs::read_symlink(p, ec);
+      if (ec) throw IoError(path, "cannot read the symbolic link: " + ec.message());
+      p = link.is_absolute() ? link : p.parent_path() / link;
+    }
+    return p.string();
+  }
+
+  // A new, empty file `target.partial-PID-N` (the first N not taken);
+  // `DIR/.partial-PID-N` when the name would be too long. IoError names
+  // `path`, the name given.
+  static std::string create_temporary(const std::string& path, const std::string& target) {
 #if defined(__unix__) || defined(__APPLE__)
     static std::atomic<unsigned> counter{0};
+    const std::filesystem::path t = target;
+    const bool short_name = t.filename().string().size() + 32 > 255;  // NAME_MAX on Linux and macOS
     for (int attempt = 0; attempt < 1000; ++attempt) {
-      const std::string temp = path + ".partial-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+      const std::string suffix = ".partial-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+      const std::string temp = short_name ? (t.parent_path() / suffix).string() : target + suffix;
       const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0666);
       if (fd >= 0) {
         ::close(fd);
@@ -87,11 +122,13 @@ class AtomicFileWriter {
     }
     throw IoError(path, "cannot create a temporary file beside it (1000 names taken)");
 #else
-    return path + ".partial";
+    (void)path;
+    return target + ".partial";
 #endif
   }
 
-  std::string path_;
+  std::string path_;    // as given, for messages
+  std::string target_;  // the file replaced: path_ with symbolic links followed
   std::string temp_;
   std::ofstream out_;
   bool committed_ = false;
