@@ -65,15 +65,27 @@ class AtomicFileWriter {
   /// The temporary file the content goes to until commit().
   const std::string& temporary_path() const noexcept { return temp_; }
 
-  /// Flushes, checks that every write succeeded and moves the file into
-  /// place. Throws WriteError if a write failed, IoError if the rename
-  /// failed, and leaves the target untouched either way.
+  /// Flushes, checks that every write succeeded, asks the operating system
+  /// to put the content on storage (fsync) and moves the file into place.
+  /// Throws WriteError if a write or the fsync failed, IoError if the
+  /// rename failed, and leaves the target untouched either way.
   void commit() {
     out_.flush();
     const bool ok = static_cast<bool>(out_);
     out_.close();
     if (!ok || out_.fail()) throw WriteError(path_, "write failed");
 #if defined(__unix__) || defined(__APPLE__)
+    // The content reaches storage before the rename makes it the file, so
+    // that after a power loss the path holds the old content or the new,
+    // not an empty or partial new file (file systems need not order the
+    // data writes before the rename).
+    const int fd = ::open(temp_.c_str(), O_RDONLY);
+    if (fd < 0 || ::fsync(fd) != 0) {
+      const int err = errno;
+      if (fd >= 0) ::close(fd);
+      throw WriteError(path_, std::string("fsync failed: ") + std::strerror(err));
+    }
+    ::close(fd);
     // The replaced file's permission bits (given after writing, so that a
     // read-only target is still replaced, as before).
     struct stat existing {};
