@@ -442,5 +442,17 @@ TEST_CASE("a prepared pool is refused by another classifier, pool or fit") {
   struct Bare final : PreparedPool {};
   const Bare bare;
   CHECK_FALSE(bare.made_for(0, pool, {0, 1}));
+  // The base class alone: its fit, its touches, and an index outside the
+  // pool is false (nothing read past the fingerprints).
+  struct Probe final : PreparedPool {
+    Probe(std::uint64_t fit_id, const TouchSet& p) : PreparedPool(fit_id, p) {}
+  };
+  const Probe probe(7, pool);
+  CHECK(probe.made_for(7, pool, {0, 1}));
+  CHECK_FALSE(probe.made_for(8, pool, {0, 1}));
+  CHECK_FALSE(probe.made_for(7, pool, {0, pool.size()}));
+  CHECK_FALSE(probe.made_for(7, pool, {-1}));
+  CHECK_FALSE(probe.made_for(7, nudged, {1}));
+  CHECK(probe.made_for(7, nudged, {0, 2}));
   CHECK(argument([&] { icp.pool_distances(pool, &bare, {0, 1}, out); }) == "prepared");
 }

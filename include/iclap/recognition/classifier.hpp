@@ -119,7 +119,8 @@ class PreparedPool {
   /// Whether this was made by the fit `fit_id` (a detail::next_fit_id() of
   /// the classifier's last fit) for a pool with `pool`'s shape (its number
   /// of touches and the sizes of its parts) whose touches
-  /// `subset` (in range) were those of `pool` to the last bit: all a test
+  /// `subset` were those of `pool` to the last bit (false for an index
+  /// outside the pool): all a test
   /// drawn from them reads. O(size of those touches), about what copying
   /// them costs (`bench_recognition --benchmark_filter=PoolCheck`), so a
   /// check per draw, not one over the whole pool. Always false for a
@@ -129,7 +130,8 @@ class PreparedPool {
         shape_ != detail::pool_shape(pool))
       return false;
     for (Index i : subset)
-      if (detail::touch_fingerprint(pool, i) != touches_[static_cast<std::size_t>(i)]) return false;
+      if (i < 0 || i >= pool.size() || detail::touch_fingerprint(pool, i) != touches_[static_cast<std::size_t>(i)])
+        return false;
     return true;
   }
 
