@@ -92,12 +92,13 @@ inline std::uint64_t touch_fingerprint(const TouchSet& pool, Index i) {
   return f.value();
 }
 
-/// The Fingerprint of the sizes of `pool`'s parts: its number of touches,
-/// its descriptors' shape, and the numbers of words, contact points and
+/// The Fingerprint of the sizes of `pool`'s parts besides its number of
+/// touches (which PreparedPool::made_for compares on its own): its
+/// descriptors' shape, and the numbers of words, contact points and
 /// offsets, normals, free points and offsets.
 inline std::uint64_t pool_shape(const TouchSet& pool) {
   Fingerprint f;
-  for (std::size_t v : {std::size_t(pool.size()), std::size_t(pool.features.rows()), std::size_t(pool.features.cols()),
+  for (std::size_t v : {std::size_t(pool.features.rows()), std::size_t(pool.features.cols()),
                         std::size_t(pool.words.size()), std::size_t(pool.contact_points.cols()),
                         pool.contact_offsets.size(), std::size_t(pool.normals.cols()),
                         std::size_t(pool.free_points.cols()), pool.free_offsets.size()})
