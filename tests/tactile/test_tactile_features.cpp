@@ -528,6 +528,14 @@ struct VaryingLength {
   Eigen::VectorXd compute(const TactileImage& image) const { return Eigen::VectorXd::Zero(image.rows()); }
 };
 
+// Refuses images of 8 rows with a derived error about its "image".
+struct RefusesEightRows {
+  Eigen::VectorXd compute(const TactileImage& image) const {
+    if (image.rows() == 8) throw EmptyInput("image", "has eight rows");
+    return Eigen::VectorXd::Zero(2);
+  }
+};
+
 }  // namespace
 
 TEST_CASE("descriptor concept: shipped and user types model it, others do not") {
@@ -568,4 +576,19 @@ TEST_CASE("extract_features: one column per image, in order, with typed errors")
   }
   std::vector<TactileImage> mixed{TactileImage(Eigen::MatrixXd::Zero(14, 6)), TactileImage(Eigen::MatrixXd::Zero(8, 8))};
   CHECK_THROWS_AS(extract_features(VaryingLength(), mixed), DimensionMismatch);
+
+  // A descriptor's refusal of one image names that image's index.
+  TactileSift<>::Settings raw;
+  raw.normalization = SiftNormalization::None;
+  std::vector<TactileImage> huge = images;
+  huge[7] = TactileImage(images[7].pressures() * 1e300);
+  try {
+    extract_features(TactileSift<>(raw), huge);
+    FAIL("float histograms beyond the range of float accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "images[7]");
+    CHECK(std::string(e.what()).find("images[7]: the raw (SiftNormalization::None) histograms") == 0);
+  }
+  // Derived errors of a descriptor pass through with their type and text.
+  CHECK_THROWS_WITH_AS(extract_features(RefusesEightRows(), mixed), "image: has eight rows", EmptyInput);
 }

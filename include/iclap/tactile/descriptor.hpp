@@ -28,6 +28,7 @@
 #include <iterator>
 #include <string>
 #include <type_traits>
+#include <typeinfo>
 #include <utility>
 
 #include <Eigen/Core>
@@ -112,6 +113,21 @@ struct DescriptorTraits {
 template <typename D>
 using FeaturesOf = typename DescriptorTraits<D>::Features;
 
+namespace detail {
+/// `descriptor.compute(image)`, with a plain InvalidArgument about "image"
+/// thrown again naming "images[j]" (same reason). Derived errors keep their
+/// type and pass through.
+template <typename D>
+typename DescriptorTraits<D>::Feature compute_naming_image(const D& descriptor, const TactileImage& image, Index j) {
+  try {
+    return descriptor.compute(image);
+  } catch (const InvalidArgument& e) {
+    if (typeid(e) != typeid(InvalidArgument) || e.argument() != "image") throw;
+    throw InvalidArgument("images[" + std::to_string(j) + "]", e.reason());
+  }
+}
+}  // namespace detail
+
 /// Runs `descriptor` on every image of `images` (any range of TactileImage:
 /// vector, array, span) and returns the features, one per column, in range
 /// order.
@@ -120,8 +136,11 @@ using FeaturesOf = typename DescriptorTraits<D>::Features;
 /// when an image's feature length differs from the first one's, and
 /// NonFiniteValue (argument "features", row = coordinate, column = image
 /// index) when the descriptor returns a NaN or infinity, so a broken user
-/// descriptor is caught here rather than inside the codebook. O(images x
-/// descriptor cost); one allocation for the result.
+/// descriptor is caught here rather than inside the codebook. A plain
+/// InvalidArgument the descriptor throws about its "image" (Tactile-SIFT's
+/// raw histograms beyond the feature type) comes out naming "images[J]",
+/// the image's index in the range; anything else it throws passes through
+/// unchanged. O(images x descriptor cost); one allocation for the result.
 template <typename D, typename Range>
 FeaturesOf<D> extract_features(const D& descriptor, const Range& images) {
   using Traits = DescriptorTraits<D>;
@@ -134,7 +153,7 @@ FeaturesOf<D> extract_features(const D& descriptor, const Range& images) {
   typename Traits::Features features;
   Index j = 0;
   for (const TactileImage& image : images) {
-    const typename Traits::Feature f = descriptor.compute(image);
+    const typename Traits::Feature f = detail::compute_naming_image(descriptor, image, j);
     if (j == 0) {
       if (f.size() == 0) throw EmptyInput("features", "descriptor returned an empty feature for images[0]");
       features.resize(f.size(), n);
