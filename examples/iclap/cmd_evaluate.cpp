@@ -503,6 +503,18 @@ class StagedOutput {
     committed_ = true;
     std::error_code ec;
     fs::remove_all(stage_, ec);
+    // The renames reach storage too (each file's content already did, by
+    // AtomicFileWriter): every directory of OUT that received a file, and
+    // the parent of every directory this run created.
+    std::set<fs::path> dirs;
+    for (const auto& f : files) dirs.insert((out_ / f).parent_path());
+    for (const auto* made : {&created_, &created})
+      for (const auto& d : *made) dirs.insert(d.parent_path().empty() ? fs::path(".") : d.parent_path());
+    for (const auto& d : dirs)
+      if (const int err = sync_directory(d.string()))
+        throw WriteError(d.string(), std::string("the output files are in place, but the fsync of this directory "
+                                                 "failed, so a power loss may undo their move: ") +
+                                         std::strerror(err));
   }
 
  private:

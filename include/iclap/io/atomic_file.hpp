@@ -19,6 +19,22 @@
 
 namespace iclap {
 
+#if defined(__unix__) || defined(__APPLE__)
+/// Asks the operating system to put directory `dir`'s entries on storage
+/// (fsync), so that files just renamed into it stay there after a power
+/// loss. Returns 0, or the errno of a failed fsync. A directory that cannot
+/// be opened for reading (mode 0300) or a file system that cannot sync
+/// directories (EINVAL) is skipped and returns 0: there is nothing more to do.
+inline int sync_directory(const std::string& dir) noexcept {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+  if (fd < 0) return 0;
+  const int synced = ::fsync(fd);
+  const int err = errno;
+  ::close(fd);
+  return synced == 0 || err == EINVAL ? 0 : err;
+}
+#endif
+
 /// Writes a file all-or-nothing: the content goes to a temporary file beside
 /// the target (`PATH.partial-PID-N`, created exclusively, so it never
 /// replaces a file of that name; `DIR/.partial-PID-N` where that name would
@@ -66,9 +82,14 @@ class AtomicFileWriter {
   const std::string& temporary_path() const noexcept { return temp_; }
 
   /// Flushes, checks that every write succeeded, asks the operating system
-  /// to put the content on storage (fsync) and moves the file into place.
-  /// Throws WriteError if a write or the fsync failed, IoError if the
-  /// rename failed, and leaves the target untouched either way.
+  /// to put the content on storage (fsync) and moves the file into place,
+  /// then puts the directory that holds it on storage too, so that the
+  /// rename itself survives a power loss. Throws WriteError if a write or
+  /// the file's fsync failed, IoError if the rename failed, and leaves the
+  /// target untouched either way. Once the file is in place, a failed
+  /// fsync of the directory throws WriteError saying so (the new content
+  /// stays); a file system that cannot sync directories (EINVAL), or a
+  /// directory that may be written but not read, is not an error.
   void commit() {
     out_.flush();
     const bool ok = static_cast<bool>(out_);
@@ -95,9 +116,23 @@ class AtomicFileWriter {
     if (std::rename(temp_.c_str(), target_.c_str()) != 0)
       throw IoError(path_, std::string("cannot move into place: ") + std::strerror(errno));
     committed_ = true;
+#if defined(__unix__) || defined(__APPLE__)
+    sync_target_directory();
+#endif
   }
 
  private:
+#if defined(__unix__) || defined(__APPLE__)
+  /// fsync of the directory holding the target (after the rename).
+  void sync_target_directory() const {
+    const std::filesystem::path parent = std::filesystem::path(target_).parent_path();
+    const std::string dir = parent.empty() ? "." : parent.string();
+    if (const int err = iclap::sync_directory(dir))
+      throw WriteError(path_, "written and moved into place, but the fsync of its directory " + dir +
+                                  " failed, so a power loss may undo the move: " + std::strerror(err));
+  }
+#endif
+
   /// `path`, or where it is a symbolic link (of a chain), the path it
   /// finally leads to, so that the rename replaces that file, not the link.
   /// IoError naming `path` for a loop of links.
