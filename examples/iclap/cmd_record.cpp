@@ -313,6 +313,7 @@ int run_record(const Args& args) {
     sensor.start_periodic_frames(rate);
     auto last_frame_at = start;
     bool warned_silent = false;
+    std::uint64_t clock_resets = 0;
     rig::PosedFrame pf;
     while (!StopSignals::requested()) {
       if (max_frames > 0 && recorded >= max_frames) break;
@@ -325,6 +326,14 @@ int run_record(const Args& args) {
       }
       if (st == rig::FrameSource::Status::kFrame) {
         record_one(pf);
+        if (source.clock_resets() != clock_resets) {
+          clock_resets = source.clock_resets();
+          status.finish();
+          std::fprintf(stderr,
+                       "iclap record: warning: the sensor clock stepped back before frame %lld (a sensor reset?); "
+                       "t continues from the previous frame's time\n",
+                       static_cast<long long>(first_frame + recorded - 1));
+        }
         last_frame_at = Clock::now();
         const double secs = std::chrono::duration<double>(last_frame_at - start).count();
         std::string line = "recording " + object + " #" + std::to_string(exploration) + ": " +

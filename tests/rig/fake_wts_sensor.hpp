@@ -40,6 +40,7 @@ struct FakeSensorScript {
   std::size_t junk_every = 0;      ///< every k-th frame is preceded by junk bytes
   bool streaming_at_connect = false;  ///< already streaming (left over from a crashed run)
   std::size_t first_seq = 0;       ///< sequence number of the first frame
+  std::size_t reset_after = 0;     ///< after this many frames (> 0), restart at sequence 0 (a sensor reset)
 };
 
 /// The frame the fake sends as number `seq`.
@@ -168,6 +169,7 @@ class PtyFakeSensor {
   }
 
   void send_frame(Rng& damage) {
+    if (script_.reset_after && frames_total_ == script_.reset_after) seq_ = 0;
     const std::size_t seq = seq_++;
     ++frames_total_;
     ++sent_in_session_;

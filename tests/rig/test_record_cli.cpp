@@ -121,6 +121,26 @@ TEST_CASE("iclap record: records every intact frame, none corrupted, and stops t
   CHECK(has_sensor_comment);
 }
 
+TEST_CASE("iclap record: a sensor clock reset is reported, and t runs on without a step back") {
+  Scratch scratch;
+  FakeSensorScript script;
+  script.first_seq = 50;  // 11.0 s, 11.2 s, 11.4 s, then the sensor restarts at 1.0 s
+  script.reset_after = 3;
+  PtyFakeSensor fake(script);
+  const std::string out = scratch("mug.csv");
+  auto args = record_args(fake.path(), out);
+  args.insert(args.end(), {"--frames", "5", "--pose", "fixed:0,0,0"});
+  const auto r = run_iclap(args, scratch);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK(r.err.find("warning: the sensor clock stepped back before frame 3 (a sensor reset?)") != std::string::npos);
+  const iclap::Dataset d = iclap::read_dataset_csv(out);
+  REQUIRE(d.frames.size() == 5);
+  std::vector<double> times;
+  for (const auto& f : d.frames) times.push_back(f.time.value_or(-1));
+  CHECK(times == std::vector<double>{11.0, 11.2, 11.4, 11.4, 11.6});
+}
+
 TEST_CASE("iclap record: an unplug keeps every intact frame, exits 3, and a second run appends") {
   Scratch scratch;
   const std::string out = scratch("unplug.csv");

@@ -303,6 +303,31 @@ TEST_CASE("Sensor frame source: time runs on across the sensor clock's 32-bit wr
   CHECK(wrapped);
   CHECK(std::is_sorted(times.begin(), times.end()));
   CHECK(times.back() > 4294967.2);
+  CHECK(source.clock_resets() == 0);
+}
+
+TEST_CASE("Sensor frame source: a sensor clock reset adds no time and is counted") {
+  FakeSensorScript script;
+  // Frames 100..103 (21.0 to 21.6 s), then the sensor restarts at 0 (1.0 s).
+  script.first_seq = 100;
+  script.reset_after = 4;
+  PtyFakeSensor fake(script);
+  SerialPort port(fake.path());
+  WtsSensor sensor(port);
+  ReplayPoseSource poses(std::vector<Pose>(7, Pose{{0, 0, 0}, {}}), "seven poses");
+  sensor.query_matrix_info();
+  SensorFrameSource source(sensor, poses);
+  sensor.start_periodic_frames(5.0);
+  PosedFrame pf;
+  std::vector<double> times;
+  std::vector<std::uint64_t> resets;
+  while (source.next(pf, 2000ms) == FrameSource::Status::kFrame) {
+    REQUIRE(pf.time);
+    times.push_back(*pf.time);
+    resets.push_back(source.clock_resets());
+  }
+  CHECK(times == std::vector<double>{21.0, 21.2, 21.4, 21.6, 21.6, 21.8, 22.0});
+  CHECK(resets == std::vector<std::uint64_t>{0, 0, 0, 0, 1, 1, 1});
 }
 
 TEST_CASE("Pose specs") {

@@ -19,7 +19,8 @@ namespace iclap::rig {
 /// bits, which wrap every 49.7 days, so each frame adds its distance from
 /// the previous one modulo 2^32 and time never runs backwards across a
 /// wrap. A clock that steps back (by more than 2^31 ms modulo 2^32: a
-/// sensor reset) is taken as no time passed. Ends (kEnd) when the pose
+/// sensor reset) is taken as no time passed and counted (clock_resets()).
+/// Ends (kEnd) when the pose
 /// source is exhausted.
 ///
 /// The sensor must already know its grid (query_matrix_info() or an
@@ -49,7 +50,10 @@ class SensorFrameSource final : public FrameSource {
       started_ = true;
     } else {
       const std::uint32_t step = frame->timestamp_ms - last_timestamp_ms_;  // modulo 2^32
-      if (step < 0x80000000u) elapsed_ms_ += step;
+      if (step < 0x80000000u)
+        elapsed_ms_ += step;
+      else
+        ++clock_resets_;
     }
     out.time = static_cast<double>(elapsed_ms_) / 1000.0;  // correctly rounded: 1400 ms -> 1.4
     last_timestamp_ms_ = frame->timestamp_ms;
@@ -64,6 +68,10 @@ class SensorFrameSource final : public FrameSource {
   }
   /// Sensor timestamp of the last frame returned (ms).
   std::uint32_t last_timestamp_ms() const noexcept { return last_timestamp_ms_; }
+  /// How many times the sensor clock stepped back (a reset) between two
+  /// frames returned so far; each such step added no time. A recorder can
+  /// compare it before and after next() to say where a reset happened.
+  std::uint64_t clock_resets() const noexcept { return clock_resets_; }
 
  private:
   WtsSensor& sensor_;
@@ -73,6 +81,7 @@ class SensorFrameSource final : public FrameSource {
   std::uint32_t last_timestamp_ms_ = 0;
   bool started_ = false;
   std::uint64_t elapsed_ms_ = 0;  // the unwrapped clock; exact in a double for 285 000 years
+  std::uint64_t clock_resets_ = 0;
 };
 
 }  // namespace iclap::rig
