@@ -251,6 +251,31 @@ TEST_CASE("the 3x3 closed form agrees with the SVD, or declines") {
   CHECK_FALSE(detail::polar_rotation3<double>(Eigen::Vector3d(1, 1, -1).asDiagonal(), 1e-12, R, degenerate));
 }
 
+TEST_CASE("the 3x3 closed form flags a reflection tie exactly as the SVD of any size does") {
+  // Reflected H with its two smallest singular values apart by `gap`, under
+  // float's rank tolerance (6.1e-5): the closed form kept gaps above 1e-9
+  // unflagged while the SVD (Dim = Dynamic) flagged them.
+  const double tol = detail::rank_tolerance<float>(3);
+  Rng rng(79);
+  for (double gap : {1e-1, 1e-3, 2 * tol, tol * 1.01, tol * 0.99, 1e-5, 1e-7, 1e-10}) {
+    for (int k = 0; k < 5; ++k) {
+      CAPTURE(gap);
+      CAPTURE(k);
+      const Eigen::Matrix3d U = random_rotation(3, 3.0, rng), V = random_rotation(3, 3.0, rng);
+      const Eigen::Matrix3d H = U * Eigen::Vector3d(1.0, 0.01 + gap, -0.01).asDiagonal() * V.transpose();
+      Eigen::Matrix3d R3;
+      bool d3 = false;
+      detail::proper_rotation<double, 3>(H, tol, R3, d3);
+      Eigen::MatrixXd Rd;
+      bool dd = !d3;
+      detail::proper_rotation<double, Eigen::Dynamic>(Eigen::MatrixXd(H), tol, Rd, dd);
+      CHECK(d3 == dd);
+      CHECK(d3 == !(gap > tol));
+      CHECK(difference(R3, Rd) < 1e-6 / gap);
+    }
+  }
+}
+
 TEST_CASE("the planar model's closed-form singular values flag rank deficiency like the SVD") {
   Rng rng(78);
   const Eigen::Vector2d zero = Eigen::Vector2d::Zero();

@@ -98,6 +98,26 @@ TEST_CASE("NaN or Inf anywhere, empty clouds and mismatched dimensions are typed
   CHECK(argument_of([&] { (void)Icp<float, 3>().align(fref, far); }) == "test");
   CHECK(argument_of([&] { (void)Icp<float, 3>().align(ftree, far); }) == "test");
   CHECK(Icp<double, 3>().align(ref, far.cast<double>()).pairs == 20);  // double has the range
+  // Beyond largest_coordinate (1.8e15 in float) but squaring to a finite
+  // float: the error summed to inf, which no stopping rule could compare,
+  // and the run went on to max_iterations. Refused, naming the point.
+  far(0, 4) = 1e18f;
+  CHECK(argument_of([&] { (void)Icp<float, 3>().align(fref, far); }) == "test");
+  const std::string far_message = [&] {
+    try {
+      (void)Icp<float, 3>().align(ftree, far);
+    } catch (const InvalidArgument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  }();
+  CHECK(far_message.find("test: point 4 is at a weighted coordinate of 1e+18") == 0);
+  far.row(2).array() += 1e18f;  // every point, in a coordinate the planar model never moves
+  CHECK(argument_of([&] { (void)Icp<float, 3, Planar>().align(fref, far); }) == "test");
+  far = model.cast<float>();
+  far(0, 4) = 1e15f;  // within the range: registered
+  CHECK(Icp<float, 3>().align(fref, far).pairs == 20);
+  far(0, 4) = 3e19f;
 
   RigidTransform<double, 3> init = RigidTransform<double, 3>::identity();
   init.R(0, 1) = kNaN;
@@ -145,6 +165,11 @@ TEST_CASE("invalid settings are errors naming the setting") {
   icp = {};
   icp.termination.absolute_tolerance = kNaN;
   CHECK(argument_of([&] { (void)icp.align(ref, model); }) == "termination.absolute_tolerance");
+  // +inf stopped every run at its initial transform, "converged".
+  icp.termination.absolute_tolerance = std::numeric_limits<double>::infinity();
+  CHECK(argument_of([&] { (void)icp.align(ref, model); }) == "termination.absolute_tolerance");
+  icp.termination.absolute_tolerance = -std::numeric_limits<double>::infinity();  // disables rule 1
+  CHECK(icp.align(ref, model).converged);
   icp = {};
   icp.rejection.trim_fraction = 0;
   CHECK(argument_of([&] { (void)icp.align(ref, model); }) == "rejection.trim_fraction");
@@ -356,6 +381,25 @@ TEST_CASE("termination: the paper's three rules") {
   const auto a = absolute.align(ref, test);
   CHECK(a.stop_reason == StopReason::AbsoluteTolerance);
   CHECK(a.error <= 1.0);
+
+  // An exact fit (error 0 after 0) with rule 1 disabled: rule 2 stops it
+  // (0 < 1e-6 * 0 never held, so it ran to max_iterations, not converged).
+  Eigen::Matrix3Xd corners(3, 8);  // a box's corners: every sum is exact
+  for (int i = 0; i < 8; ++i) corners.col(i) = Eigen::Vector3d(i & 1, 2 * ((i >> 1) & 1), 4 * ((i >> 2) & 1));
+  const ReferenceCloud<double, 3> box(corners);
+  Icp<double, 3> exact;
+  exact.termination.absolute_tolerance = -1;
+  const auto e = exact.align(box, corners);
+  CHECK(e.error == 0);
+  CHECK(e.stop_reason == StopReason::RelativeTolerance);
+  CHECK(e.converged);
+  CHECK(e.iterations == 1);
+  // Rule 2 disabled (relative tolerance 0): an unchanged error does not stop it.
+  exact.termination.relative_tolerance = 0;
+  exact.termination.max_iterations = 7;
+  const auto e0 = exact.align(box, corners);
+  CHECK(e0.stop_reason == StopReason::MaxIterations);
+  CHECK(e0.iterations == 7);
 }
 
 TEST_CASE("the iterations reuse the workspace's buffers from the first step on") {

@@ -129,6 +129,15 @@ TEST_CASE("distance field: settings and points out of range are refused, naming 
   CHECK(message(p, {1e-3, 0.0}).find("settings.truncation") != std::string::npos);
   CHECK(message(p, {1e-3, 0.0641}).find("at most 64 voxels") != std::string::npos);
   CHECK(message(p, {1e-3, 0.064}).empty());
+  // A truncation whose float square is 0 (every query read 0, as if at a
+  // point) or inf; the extremes that square to normal floats are kept.
+  CHECK(message(p, {1e-24, 3e-24}).find("settings.truncation: must square to a normal finite float") == 0);
+  CHECK(message(p, {1e18, 3e19}).find("settings.truncation: must square to a normal finite float") == 0);
+  const TruncatedDistanceField tiny(p, {1e-19, 2e-19});
+  CHECK(tiny.cap() > 0);
+  CHECK(tiny.squared_distance(Eigen::Vector3d(1e-15, 0, 0)) == tiny.cap());
+  const TruncatedDistanceField huge(p, {1e18, 1e19});
+  CHECK(std::isfinite(huge.cap()));
   Eigen::Matrix3Xd bad = p;
   bad(1, 0) = std::numeric_limits<double>::infinity();
   CHECK(message(bad, {}).find("evidence") != std::string::npos);

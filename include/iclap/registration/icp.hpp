@@ -253,28 +253,36 @@ class Icp {
       } else {
         moved = w.cwiseProduct(tmp + o);
       }
-      if (initial) check_initial_range(j, tmp, w, moved, limit);
+      check_range(j, tmp, w, moved, initial != nullptr, limit);
       ws.test_points.col(j) = moved.template cast<Scalar>();
     }
     return Model::block_size(d);
   }
 
-  /// An `initial` that moves test point `j` (about the reference centroid:
-  /// `own` before the motion and unweighted, `moved` after it and weighted
-  /// by `w`) beyond the range the scalar type can square
-  /// (largest_coordinate) is refused naming "initial", where the test point
-  /// itself is in range: the search would find no finite distance for it,
-  /// and the error would blame "test". Checked as each point is written, so
-  /// the test is read once.
-  static void check_initial_range(Index j, const AccPoint& own, const AccPoint& w, const AccPoint& moved, Acc limit) {
+  /// Test point `j` beyond the range the scalar type can square
+  /// (largest_coordinate) from the reference centroid, weighted, is refused
+  /// naming "test": its squared distances would overflow (in float, an
+  /// offset of 1e18 gave an error of inf that no stopping rule could
+  /// compare). Where the point is in range but `initial` (`moved_by_initial`)
+  /// moves it beyond, "initial" is named instead, since the search would
+  /// find no finite distance for it. `own` is the point about the centroid
+  /// before the motion and unweighted, `moved` after it and weighted by `w`.
+  /// Checked as each point is written, so the test is read once.
+  static void check_range(Index j, const AccPoint& own, const AccPoint& w, const AccPoint& moved,
+                          bool moved_by_initial, Acc limit) {
     const Acc reach = moved.cwiseAbs().maxCoeff();
     if (reach <= limit) return;  // false for NaN and inf
-    if (!(w.cwiseProduct(own).cwiseAbs().maxCoeff() <= limit)) return;  // out of range by itself
-    throw InvalidArgument("initial", "moves test point " + std::to_string(j) + " to a weighted coordinate of " +
-                                         format_value(static_cast<double>(reach)) + " from the reference centroid, " +
-                                         "beyond what the registration's scalar type can square (|v| <= " +
-                                         format_value(static_cast<double>(limit)) +
-                                         "); check the unit of its translation and rotation");
+    const Acc own_reach = moved_by_initial ? w.cwiseProduct(own).cwiseAbs().maxCoeff() : reach;
+    const auto beyond = [limit](Acc v) {
+      return "a weighted coordinate of " + format_value(static_cast<double>(v)) +
+             " from the reference centroid, beyond what the registration's scalar type can square (|v| <= " +
+             format_value(static_cast<double>(limit)) + ")";
+    };
+    if (!(own_reach <= limit))
+      throw InvalidArgument("test", "point " + std::to_string(j) + " is at " + beyond(own_reach) +
+                                        "; check the units of the test and the reference");
+    throw InvalidArgument("initial", "moves test point " + std::to_string(j) + " to " + beyond(reach) +
+                                         "; check the unit of its translation and rotation");
   }
 
   /// Matches every working test point under (R, t) and applies the rejector.

@@ -38,8 +38,10 @@ struct DistanceRejector {
 
   /// How many of `n` pairs (n >= 1) the trimming keeps: ceil(trim_fraction n),
   /// at least 1, where trim_fraction is the decimal it was written as (0.3,
-  /// not the float 0.30000001) and a product within 1e-12 of an integer
-  /// counts as that integer.
+  /// not the float 0.30000001) and a product within 1e-12 of itself
+  /// (relative, which absorbs the product's own rounding at any n) above an
+  /// integer counts as that integer: 0.50000000000010003 of a million pairs
+  /// keeps 500000.
   Index trimmed_count(Index n) const {
     if (!(trim_fraction < 1)) return n;
     // 0.3f * 10 = 3.0000001 would keep 4 of 10 pairs where the double 0.3

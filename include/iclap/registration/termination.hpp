@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -34,11 +35,14 @@ inline const char* to_string(StopReason r) noexcept {
 ///     tolerance", which would stop every run at once; this is the sane
 ///     reading of that first rule.
 ///  2. |E_prev - E| < `relative_tolerance` * E_prev (the relative change
-///     between two consecutive iterations falls below the threshold).
+///     between two consecutive iterations falls below the threshold), or
+///     E == E_prev (so that an exact fit, 0 after 0, stops here too when
+///     rule 1 is disabled).
 ///  3. `max_iterations` transform updates have been made (n_max).
 ///
 /// A negative absolute tolerance disables rule 1 (0 stops only at an exact
-/// fit); a relative tolerance of 0 disables rule 2; so `max_iterations = 50`
+/// fit; +inf is refused, as it would stop every run before its first
+/// update); a relative tolerance of 0 disables rule 2; so `max_iterations = 50`
 /// with both disabled forces exactly 50 iterations.
 ///
 /// A custom termination policy provides `void validate() const` and
@@ -55,13 +59,18 @@ struct PaperTermination {
       throw InvalidArgument("termination.max_iterations", "must be >= 0 (got " + std::to_string(max_iterations) + ")");
     if (std::isnan(absolute_tolerance))
       throw InvalidArgument("termination.absolute_tolerance", "must not be NaN");
+    if (absolute_tolerance == std::numeric_limits<Scalar>::infinity())
+      throw InvalidArgument("termination.absolute_tolerance",
+                            "must not be +inf: every registration would stop at its initial transform, reported as "
+                            "converged");
     if (!(relative_tolerance >= 0) || !std::isfinite(relative_tolerance))
       throw InvalidArgument("termination.relative_tolerance", "must be finite and >= 0 (got " + format_exact(relative_tolerance) + ")");
   }
 
   std::optional<StopReason> check(int iterations, Scalar error, Scalar previous_error) const {
     if (error <= absolute_tolerance) return StopReason::AbsoluteTolerance;
-    if (iterations > 0 && std::abs(previous_error - error) < relative_tolerance * previous_error)
+    if (iterations > 0 && relative_tolerance > 0 &&
+        (error == previous_error || std::abs(previous_error - error) < relative_tolerance * previous_error))
       return StopReason::RelativeTolerance;
     if (iterations >= max_iterations) return StopReason::MaxIterations;
     return std::nullopt;

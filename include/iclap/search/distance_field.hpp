@@ -144,6 +144,16 @@ class TruncatedDistanceField {
       throw InvalidArgument("settings.truncation", "must be > 0 and at most " + format_value(kMaxTruncationVoxels) +
                                                        " voxels (" + format_value(kMaxTruncationVoxels * s.voxel) +
                                                        " m), got " + format_value(s.truncation));
+    // The field stores squared distances in float: a truncation whose square
+    // is 0 or subnormal there (below 1.1e-19 m) made every query read 0, as
+    // if it touched a point; one whose square overflows (above 1.8e19 m)
+    // made the far value inf.
+    const double cap = static_cast<double>(static_cast<float>(s.truncation * s.truncation));
+    if (!(cap >= static_cast<double>(std::numeric_limits<float>::min()) &&
+          cap <= static_cast<double>(std::numeric_limits<float>::max())))
+      throw InvalidArgument("settings.truncation",
+                            "must square to a normal finite float (about 1.1e-19 to 1.8e19 m), got " +
+                                format_value(s.truncation));
   }
 
   double voxel() const noexcept { return voxel_; }

@@ -130,7 +130,8 @@ class KdTreeSearch
 
   /// Takes the points (one per column) and builds the tree. Throws EmptyInput
   /// for an empty cloud, NonFiniteValue for NaN or infinite coordinates and
-  /// InvalidArgument for more than 2^32 - 1 points, naming `points`.
+  /// InvalidArgument for 2^32 - 1 points or more (the index type is 32-bit;
+  /// its largest value stays unused), naming `points`.
   explicit KdTreeSearch(CloudType points, const Settings& settings = {}) {
     check_not_empty(points, "points");
     check_finite(points, "points");

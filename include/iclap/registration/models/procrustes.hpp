@@ -76,7 +76,15 @@ bool polar_rotation3(const SquareMatrix<Acc, 3>& H, double rank_tol, SquareMatri
   // ratio squared) is small enough for the refinement below to converge.
   if (!(lambda(0) > lambda(2) * Acc(1e-10))) return false;
   V3 inv_s = lambda.cwiseSqrt().cwiseInverse();
-  if (Hn.determinant() < 0) inv_s(0) = -inv_s(0);
+  if (Hn.determinant() < 0) {
+    // A reflected H whose two smallest singular values are close (within
+    // twice the gap proper_rotation calls degenerate, so the closed form's
+    // rounding cannot decide the flag): the SVD decides, so the rotation and
+    // its degenerate flag are those of any other dimension.
+    const Acc s0 = std::sqrt(lambda(0)), s1 = std::sqrt(lambda(1)), s2 = std::sqrt(lambda(2));
+    if (!(s1 - s0 > Acc(2) * s2 * static_cast<Acc>(rank_tol))) return false;
+    inv_s(0) = -inv_s(0);
+  }
   const M3& V = eig.eigenvectors();
   M3 X = V * inv_s.asDiagonal() * V.transpose() * Hn.transpose();
 
