@@ -269,19 +269,39 @@ TEST_CASE("Sensor frame source pairs frames with replayed poses and ends with th
   CHECK(source.description().find(fake.path()) != std::string::npos);
 }
 
+namespace {
+// A SensorFrameSource on the pty fake sensor run by `script`, with `poses`
+// poses at the origin (so it ends after that many frames), streaming at
+// 5 frames/s.
+struct StreamingFrameSource {
+  StreamingFrameSource(const FakeSensorScript& script, std::size_t poses_count)
+      : fake(script),
+        port(fake.path()),
+        sensor(port),
+        poses(std::vector<Pose>(poses_count, Pose{{0, 0, 0}, {}}), "poses at the origin"),
+        source(queried(sensor), poses) {
+    sensor.start_periodic_frames(5.0);
+  }
+  static WtsSensor& queried(WtsSensor& s) {
+    s.query_matrix_info();
+    return s;
+  }
+  PtyFakeSensor fake;
+  SerialPort port;
+  WtsSensor sensor;
+  ReplayPoseSource poses;
+  SensorFrameSource source;
+};
+}  // namespace
+
 TEST_CASE("Sensor frame source: time runs on across the sensor clock's 32-bit wrap") {
   FakeSensorScript script;
   // Frame seq has timestamp 1000 + 200 seq ms modulo 2^32: 4294966600,
   // ..., 4294967200, then 104 (which read as 0.104 s after 4294967.2 s).
   const std::size_t first = 21474828;
   script.first_seq = first;
-  PtyFakeSensor fake(script);
-  SerialPort port(fake.path());
-  WtsSensor sensor(port);
-  ReplayPoseSource poses(std::vector<Pose>(8, Pose{{0, 0, 0}, {}}), "eight poses");
-  sensor.query_matrix_info();
-  SensorFrameSource source(sensor, poses);
-  sensor.start_periodic_frames(5.0);
+  StreamingFrameSource s(script, 8);
+  auto& source = s.source;
   PosedFrame pf;
   std::vector<double> times;
   std::uint64_t first_ms = 0;  // the unwrapped timestamp of the first frame received
@@ -311,13 +331,8 @@ TEST_CASE("Sensor frame source: a sensor clock reset adds no time and is counted
   // Frames 100..103 (21.0 to 21.6 s), then the sensor restarts at 0 (1.0 s).
   script.first_seq = 100;
   script.reset_after = 4;
-  PtyFakeSensor fake(script);
-  SerialPort port(fake.path());
-  WtsSensor sensor(port);
-  ReplayPoseSource poses(std::vector<Pose>(7, Pose{{0, 0, 0}, {}}), "seven poses");
-  sensor.query_matrix_info();
-  SensorFrameSource source(sensor, poses);
-  sensor.start_periodic_frames(5.0);
+  StreamingFrameSource s(script, 7);
+  auto& source = s.source;
   PosedFrame pf;
   std::vector<double> times;
   std::vector<std::uint64_t> resets;
