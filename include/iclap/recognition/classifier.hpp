@@ -199,15 +199,16 @@ class Classifier {
  protected:
   /// `prepared` as the preparation type `P` of this classifier, null when it
   /// is null; throws InvalidArgument naming "subset" for an index outside
-  /// `pool` and "prepared" when it is not a `P` made for `pool`'s touches
+  /// `pool` (whether or not there is a preparation) and "prepared" when it is not a `P` made for `pool`'s touches
   /// `subset` by the fit `fit_id` (another classifier's, another pool's, or
   /// one from before the last fit).
   template <typename P>
   static const P* checked_preparation(const PreparedPool* prepared, std::uint64_t fit_id, const TouchSet& pool,
                                       const std::vector<Index>& subset) {
+    checked_subset(pool, subset);
     if (!prepared) return nullptr;
     const auto* p = dynamic_cast<const P*>(prepared);
-    if (!p || !p->made_for(fit_id, pool, checked_subset(pool, subset)))
+    if (!p || !p->made_for(fit_id, pool, subset))
       throw InvalidArgument("prepared", "was not made by prepare_pool of this classifier for this pool since its last fit");
     return p;
   }

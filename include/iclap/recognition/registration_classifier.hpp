@@ -439,9 +439,8 @@ class RegistrationClassifier final : public Classifier {
   /// classifier, pool or fit, and "subset" for an index outside the pool.
   void pool_distances(const TouchSet& pool, const PreparedPool* prepared, const std::vector<Index>& subset,
                       Eigen::Ref<Eigen::VectorXd> out) const override {
-    // checked_preparation checks the subset only when there is a preparation.
     const FirstMatches* first = checked_preparation<FirstMatches>(prepared, fit_id_, pool, subset);
-    const TouchSet test = select_touches(pool, first ? subset : checked_subset(pool, subset));
+    const TouchSet test = select_touches(pool, subset);
     compute_distances(test, first, &subset, out);
   }
 
