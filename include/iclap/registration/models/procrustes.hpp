@@ -75,14 +75,14 @@ bool polar_rotation3(const SquareMatrix<Acc, 3>& H, double rank_tol, SquareMatri
   // s_min / s_max above 1e-5: the closed form's error (about eps / that
   // ratio squared) is small enough for the refinement below to converge.
   if (!(lambda(0) > lambda(2) * Acc(1e-10))) return false;
-  V3 inv_s = lambda.cwiseSqrt().cwiseInverse();
+  const V3 s = lambda.cwiseSqrt();  // the singular values of Hn, ascending
+  V3 inv_s = s.cwiseInverse();
   if (Hn.determinant() < 0) {
     // A reflected H whose two smallest singular values are close (within
     // twice the gap proper_rotation calls degenerate, so the closed form's
     // rounding cannot decide the flag): the SVD decides, so the rotation and
     // its degenerate flag are those of any other dimension.
-    const Acc s0 = std::sqrt(lambda(0)), s1 = std::sqrt(lambda(1)), s2 = std::sqrt(lambda(2));
-    if (!(s1 - s0 > Acc(2) * s2 * static_cast<Acc>(rank_tol))) return false;
+    if (!(s(1) - s(0) > Acc(2) * s(2) * static_cast<Acc>(rank_tol))) return false;
     inv_s(0) = -inv_s(0);
   }
   const M3& V = eig.eigenvectors();
@@ -116,7 +116,7 @@ bool polar_rotation3(const SquareMatrix<Acc, 3>& H, double rank_tol, SquareMatri
     if (!(angle < Acc(1e-3))) return false;  // not near the optimum: the estimate failed
     if (angle <= Acc(8) * eps) {
       R = X;
-      degenerate = !(std::sqrt(lambda(0)) > std::sqrt(lambda(2)) * static_cast<Acc>(rank_tol));
+      degenerate = !(s(0) > s(2) * static_cast<Acc>(rank_tol));
       return true;
     }
     X = Eigen::AngleAxis<Acc>(-angle, w / angle).toRotationMatrix() * X;
