@@ -166,10 +166,13 @@ std::string percent(double r) {
   return buf;
 }
 
+// Writes one output file into the staging directory of StagedOutput. The
+// content reaches storage; the staging directory's entries need not, since
+// StagedOutput::commit moves the file on and syncs the directory it lands in.
 void write_file(const fs::path& path, const std::string& content) {
   AtomicFileWriter w(path.string());
   w.stream() << content;
-  w.commit();
+  w.commit(AtomicFileWriter::DirectorySync::no);
 }
 
 double fold_std(const MethodResult& m, std::size_t t) {
@@ -509,7 +512,7 @@ class StagedOutput {
     std::set<fs::path> dirs;
     for (const auto& f : files) dirs.insert((out_ / f).parent_path());
     for (const auto* made : {&created_, &created})
-      for (const auto& d : *made) dirs.insert(d.parent_path().empty() ? fs::path(".") : d.parent_path());
+      for (const auto& d : *made) dirs.insert(directory_of(d));
     for (const auto& d : dirs)
       if (const int err = sync_directory(d.string()))
         throw WriteError(d.string(), std::string("the output files are in place, but the fsync of this directory "

@@ -189,9 +189,27 @@ TEST_CASE("AtomicFileWriter: all or nothing") {
   CHECK(slurp_file(path) == "complete\n");
   CHECK(files_starting_with(path).size() == 2);
   CHECK(slurp_file(path + ".partial") == "precious\n");
+  {
+    // Without the directory sync (a file of a staging directory), the file
+    // is in place all the same and no temporary is left.
+    AtomicFileWriter w(path);
+    w.stream() << "staged\n";
+    w.commit(AtomicFileWriter::DirectorySync::no);
+  }
+  CHECK(slurp_file(path) == "staged\n");
+  CHECK(files_starting_with(path).size() == 2);
   std::remove(path.c_str());
   std::remove((path + ".partial").c_str());
   CHECK_THROWS_AS(AtomicFileWriter("/nonexistent-dir/x.txt"), IoError);
+}
+
+TEST_CASE("directory_of: the parent, or . for a bare name; sync_directory skips what it cannot open") {
+  CHECK(directory_of("results.csv") == std::filesystem::path("."));
+  CHECK(directory_of("out/results.csv") == std::filesystem::path("out"));
+  CHECK(directory_of("/results.csv") == std::filesystem::path("/"));
+  CHECK(directory_of("a/b/") == std::filesystem::path("a/b"));
+  CHECK(sync_directory(".") == 0);
+  CHECK(sync_directory("/nonexistent-dir") == 0);
 }
 
 TEST_CASE("AtomicFileWriter: through a symbolic link, keeping permissions, with the longest file names") {

@@ -19,19 +19,36 @@
 
 namespace iclap {
 
+/// The directory that holds `path`: its parent, or "." for a bare name.
+inline std::filesystem::path directory_of(const std::filesystem::path& path) {
+  std::filesystem::path parent = path.parent_path();
+  return parent.empty() ? std::filesystem::path(".") : parent;
+}
+
 #if defined(__unix__) || defined(__APPLE__)
+namespace detail {
+/// Opens `path` with `flags`, asks the operating system to put it on
+/// storage (fsync) and closes it. Returns 0, or the errno of the failed
+/// open (`opened` false) or fsync.
+inline int open_and_sync(const char* path, int flags, bool& opened) noexcept {
+  const int fd = ::open(path, flags);
+  opened = fd >= 0;
+  if (!opened) return errno;
+  const int err = ::fsync(fd) == 0 ? 0 : errno;
+  ::close(fd);
+  return err;
+}
+}  // namespace detail
+
 /// Asks the operating system to put directory `dir`'s entries on storage
 /// (fsync), so that files just renamed into it stay there after a power
 /// loss. Returns 0, or the errno of a failed fsync. A directory that cannot
 /// be opened for reading (mode 0300) or a file system that cannot sync
 /// directories (EINVAL) is skipped and returns 0: there is nothing more to do.
 inline int sync_directory(const std::string& dir) noexcept {
-  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
-  if (fd < 0) return 0;
-  const int synced = ::fsync(fd);
-  const int err = errno;
-  ::close(fd);
-  return synced == 0 || err == EINVAL ? 0 : err;
+  bool opened = false;
+  const int err = detail::open_and_sync(dir.c_str(), O_RDONLY | O_DIRECTORY, opened);
+  return !opened || err == EINVAL ? 0 : err;
 }
 #endif
 
@@ -81,16 +98,23 @@ class AtomicFileWriter {
   /// The temporary file the content goes to until commit().
   const std::string& temporary_path() const noexcept { return temp_; }
 
+  /// Whether commit() puts the directory holding the file on storage.
+  enum class DirectorySync {
+    yes,  ///< the default: the rename itself survives a power loss
+    no    ///< for a file in a staging directory whose caller moves it on and syncs where it lands
+  };
+
   /// Flushes, checks that every write succeeded, asks the operating system
   /// to put the content on storage (fsync) and moves the file into place,
-  /// then puts the directory that holds it on storage too, so that the
-  /// rename itself survives a power loss. Throws WriteError if a write or
-  /// the file's fsync failed, IoError if the rename failed, and leaves the
-  /// target untouched either way. Once the file is in place, a failed
-  /// fsync of the directory throws WriteError saying so (the new content
-  /// stays); a file system that cannot sync directories (EINVAL), or a
-  /// directory that may be written but not read, is not an error.
-  void commit() {
+  /// then (unless `directory` is DirectorySync::no) puts the directory that
+  /// holds it on storage too, so that the rename itself survives a power
+  /// loss. Throws WriteError if a write or the file's fsync failed, IoError
+  /// if the rename failed, and leaves the target untouched either way. Once
+  /// the file is in place, a failed fsync of the directory throws WriteError
+  /// saying so (the new content stays); a file system that cannot sync
+  /// directories (EINVAL), or a directory that may be written but not read,
+  /// is not an error.
+  void commit(DirectorySync directory = DirectorySync::yes) {
     out_.flush();
     const bool ok = static_cast<bool>(out_);
     out_.close();
@@ -100,13 +124,9 @@ class AtomicFileWriter {
     // that after a power loss the path holds the old content or the new,
     // not an empty or partial new file (file systems need not order the
     // data writes before the rename).
-    const int fd = ::open(temp_.c_str(), O_RDONLY);
-    if (fd < 0 || ::fsync(fd) != 0) {
-      const int err = errno;
-      if (fd >= 0) ::close(fd);
+    bool opened = false;
+    if (const int err = detail::open_and_sync(temp_.c_str(), O_RDONLY, opened))
       throw WriteError(path_, std::string("fsync failed: ") + std::strerror(err));
-    }
-    ::close(fd);
     // The replaced file's permission bits (given after writing, so that a
     // read-only target is still replaced, as before).
     struct stat existing {};
@@ -117,7 +137,9 @@ class AtomicFileWriter {
       throw IoError(path_, std::string("cannot move into place: ") + std::strerror(errno));
     committed_ = true;
 #if defined(__unix__) || defined(__APPLE__)
-    sync_target_directory();
+    if (directory == DirectorySync::yes) sync_target_directory();
+#else
+    (void)directory;
 #endif
   }
 
@@ -125,8 +147,7 @@ class AtomicFileWriter {
 #if defined(__unix__) || defined(__APPLE__)
   /// fsync of the directory holding the target (after the rename).
   void sync_target_directory() const {
-    const std::filesystem::path parent = std::filesystem::path(target_).parent_path();
-    const std::string dir = parent.empty() ? "." : parent.string();
+    const std::string dir = directory_of(target_).string();
     if (const int err = iclap::sync_directory(dir))
       throw WriteError(path_, "written and moved into place, but the fsync of its directory " + dir +
                                   " failed, so a power loss may undo the move: " + std::strerror(err));
