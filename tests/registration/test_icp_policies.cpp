@@ -187,6 +187,17 @@ TEST_CASE("invalid settings are errors naming the setting") {
   ficp = {};
   ficp.rejection.max_distance = -0.0f;
   CHECK_THROWS_WITH(ficp.rejection.validate(), doctest::Contains("(got -0)"));
+  // A limit whose square underflows would keep only exact matches.
+  ficp = {};
+  ficp.rejection.max_distance = 1e-23f;
+  CHECK_THROWS_WITH(ficp.rejection.validate(), doctest::Contains("must square to a normal number"));
+  ficp.rejection.max_distance = 1e-18f;
+  CHECK_NOTHROW(ficp.rejection.validate());
+  icp = {};
+  icp.rejection.max_distance = 1e-160;
+  CHECK(argument_of([&] { (void)icp.align(ref, model); }) == "rejection.max_distance");
+  icp.rejection.max_distance = 1e-150;
+  CHECK_NOTHROW(icp.rejection.validate());
   ficp = {};
   ficp.termination.relative_tolerance = -1e-30f;
   CHECK_THROWS_WITH(ficp.termination.validate(), doctest::Contains("(got -1e-30)"));

@@ -24,7 +24,8 @@ namespace iclap {
 template <typename Scalar>
 struct DistanceRejector {
   /// Pairs farther apart than this (weighted distance, the cloud's units)
-  /// are dropped. Infinity: none.
+  /// are dropped. Infinity: none. Its square must be a normal number (at
+  /// least about 1.1e-19 for float, 1.5e-154 for double).
   Scalar max_distance = std::numeric_limits<Scalar>::infinity();
   /// Fraction of the remaining pairs kept, the closest ones, in (0, 1]; the
   /// count is rounded up, so at least one pair survives. 1: no trimming.
@@ -32,6 +33,12 @@ struct DistanceRejector {
 
   void validate() const {
     if (!(max_distance > 0)) throw InvalidArgument("rejection.max_distance", "must be > 0 (got " + format_exact(max_distance) + ")");
+    // Pairs are compared by squared distance: a limit whose square is 0 or
+    // subnormal (float below about 1.1e-19, double 1.5e-154) kept only exact
+    // matches, or compared at a fraction of the precision.
+    if (!(max_distance * max_distance >= std::numeric_limits<Scalar>::min()))
+      throw InvalidArgument("rejection.max_distance", "must square to a normal number, since pairs are compared by "
+                                                      "squared distance (got " + format_exact(max_distance) + ")");
     if (!(trim_fraction > 0 && trim_fraction <= 1))
       throw InvalidArgument("rejection.trim_fraction", "must be in (0, 1] (got " + format_exact(trim_fraction) + ")");
   }
