@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "cli.hpp"
@@ -228,6 +229,17 @@ int run_register(const iclap::cli::Args& args) {
     // coordinate, and so every difference, far below what squares to
     // infinity.)
     if (e.argument() == "test") throw iclap::InvalidArgument(q.test_path, e.reason());
+    // Settings the options gave, refused in the chosen scalar type (e.g. a
+    // float --max-distance whose square underflows, or a --tolerance that
+    // becomes +inf as a float): named by their option.
+    static const std::pair<const char*, const char*> kOptions[] = {
+        {"rejection.max_distance", "--max-distance"},
+        {"rejection.trim_fraction", "--trim"},
+        {"termination.absolute_tolerance", "--tolerance"},
+        {"termination.relative_tolerance", "--relative-tolerance"},
+        {"termination.max_iterations", "--max-iterations"}};
+    for (const auto& [setting, option] : kOptions)
+      if (e.argument() == setting) throw UsageError(std::string(option) + ": " + e.reason());
     throw;
   }
 }
