@@ -181,6 +181,37 @@ TEST_CASE("k-means: labels equal assign(), batch and single, before and after or
   }
 }
 
+TEST_CASE("k-means: a feature tied between two words gets assign()'s word after a renumbering") {
+  // Feature 1 is as close to centre 2 as to centre 0. Before the renumbering
+  // it went to old word 0; where the ordering makes that word 1, assign()
+  // gives it word 0 (the smaller new id), and so must the labels.
+  for (WordOrdering ordering : {WordOrdering::None, WordOrdering::PrincipalAxis, WordOrdering::NearestNeighbourChain}) {
+    CAPTURE(to_string(ordering));
+    KMeansQuantizer<double, 1> q;
+    q.settings.k = 2;
+    q.settings.max_iterations = 0;  // keep the given centres
+    q.settings.ordering = ordering;
+    Cloud<double, 1> f(1, 3);
+    f << 0, 1, 2;
+    Cloud<double, 1> c(1, 2);
+    c << 2, 0;
+    const KMeansResult r = q.fit_from(f, c);
+    for (Index j = 0; j < 3; ++j) CHECK(r.labels[j] == q.assign(f.col(j)));
+    CHECK(r.cluster_sizes[q.assign(f.col(1))] == 2);
+  }
+}
+
+TEST_CASE("k-means: a finite feature beyond the quantizer's range is out of range, not non-finite") {
+  KMeansQuantizer<float> q = KMeansQuantizer<float>::from_centres((Cloud<float, Eigen::Dynamic>(2, 2) << 0, 1, 0, 1).finished());
+  for (const double big : {1e16, 1e39, 1e300}) {
+    CAPTURE(big);
+    // A double beyond float was cast to inf first and reported as NaN/inf.
+    CHECK_THROWS_WITH_AS(q.assign(Eigen::Vector2d(big, 0)), doctest::Contains("beyond the float range"), InvalidArgument);
+  }
+  CHECK_THROWS_AS(q.assign(Eigen::Vector2d(std::numeric_limits<double>::infinity(), 0)), NonFiniteValue);
+  CHECK(q.assign(Eigen::Vector2d(0.9, 1.1)) == 1);
+}
+
 TEST_CASE("k-means: an empty cluster is re-seeded from the farthest feature") {
   // Two tight blobs and one outlier near blob A; the third initial centre is
   // far from everything, so after the first assignment it is empty.
@@ -468,6 +499,19 @@ TEST_CASE("word ordering: neighbouring ids are neighbouring centroids") {
   for (Index w = 0; w < 8; ++w) along[static_cast<std::size_t>(w)] = plain.centres().col(w).dot(direction);
   CHECK_FALSE((std::is_sorted(along.begin(), along.end()) || std::is_sorted(along.rbegin(), along.rend())));
   CHECK(word_order(plain.centres(), WordOrdering::None) == std::vector<Index>{0, 1, 2, 3, 4, 5, 6, 7});
+  // Mirror-image centres project equally on the principal axis: ties go to
+  // the smaller old id, and of the two ends (0 and 5, equally far) the
+  // smaller id's projection is the positive one. The eigenvector's rounding
+  // decided both before (0 2 1 3 4 5 for most y, 5 3 4 1 2 0 for y = 0.1).
+  for (const double y : {0.5, 0.3, 0.25, 0.1, 0.7})
+    for (const double s : {1.0, -1.0}) {
+      CAPTURE(y);
+      CAPTURE(s);
+      Cloud<double, 2> c(2, 6);
+      c << 0, 1, 1, 2, 2, 3,  //
+          0, s * y, -s * y, s * y, -s * y, 0;
+      CHECK(word_order(c, WordOrdering::PrincipalAxis) == std::vector<Index>{5, 3, 4, 1, 2, 0});
+    }
 }
 
 // ---------------------------------------------------------------------------

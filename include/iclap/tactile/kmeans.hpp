@@ -258,9 +258,11 @@ class KMeansQuantizer {
     if (!fitted()) throw InvalidArgument("quantizer", "is not fitted: call fit() first");
     if (feature.cols() != 1) throw DimensionMismatch("feature.cols", 1, feature.cols());
     check_dimension(feature.rows(), dim(), "feature");
+    // Checked as given, before the cast: a finite double beyond float's
+    // range is out of range, not the inf its cast would be.
+    check_finite(feature, "feature");
+    check_coordinate_range<Scalar>(feature, "feature");
     const Feature f = feature.template cast<Scalar>();
-    check_finite(f, "feature");
-    check_coordinate_range<Scalar>(f, "feature");
     return search_.nearest(f.data());
   }
 
@@ -605,6 +607,19 @@ class KMeansQuantizer {
     result.labels.resize(n);
     for (Index i = 0; i < n; ++i) result.labels[i] = new_id[labels[i]];
     install(std::move(ordered));
+    // A feature equally close to two words went to the smaller old id; after
+    // a renumbering, assign() gives it the smaller new one. The labels are
+    // taken again from the installed search so that they equal assign()
+    // (ties are the only features that can move; the inertia is the same).
+    bool renumbered = false;
+    for (Index j = 0; j < k; ++j) renumbered = renumbered || order[static_cast<std::size_t>(j)] != j;
+    if (renumbered) {
+      result.cluster_sizes.setZero();
+      for (Index i = 0; i < n; ++i) {
+        result.labels[i] = search_.nearest(features.col(i).data()).index;
+        ++result.cluster_sizes[result.labels[i]];
+      }
+    }
     return result;
   }
 
