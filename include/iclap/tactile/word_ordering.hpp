@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <numeric>
 #include <vector>
 
@@ -50,7 +51,11 @@ inline const char* to_string(WordOrdering o) noexcept {
 /// The new numbering of the words whose centroids are the columns of
 /// `centres`: `order[new_id] = old_id`, a permutation of 0..k-1. Ties are
 /// broken by the smaller old id, and the principal axis is oriented so its
-/// largest-magnitude projection is positive, so the order is deterministic.
+/// largest-magnitude projection is positive (the smallest old id's, where
+/// several are largest), so the order is deterministic. For PrincipalAxis,
+/// projections within 1e-10 of the largest magnitude of each other (a run
+/// of such steps) are ties, since the eigenvector is known only to
+/// rounding.
 /// O(k^2 d + k^3) for PrincipalAxis (through the k x k Gram matrix, so a
 /// high feature dimension costs nothing extra), O(k^2 d) for the chain.
 template <typename Scalar, int Dim>
@@ -70,11 +75,25 @@ std::vector<Index> word_order(const Cloud<Scalar, Dim>& centres, WordOrdering or
     // Projections on the first principal axis are sqrt(lambda_max) times the
     // top eigenvector of the Gram matrix; the scale does not change the order.
     Eigen::VectorXd projection = solver.eigenvectors().col(k - 1);
-    Index largest = 0;
-    for (Index j = 1; j < k; ++j)
-      if (std::abs(projection[j]) > std::abs(projection[largest])) largest = j;
+    // Projections within `tie` of each other count as equal: centres that
+    // mirror each other across the axis project equally in exact
+    // arithmetic, but the eigenvector's rounding made their order (and the
+    // axis' sign) depend on the last bits.
+    const double top = projection.cwiseAbs().maxCoeff();
+    const double tie = 1e-10 * top;
+    Index largest = 0;  // the smallest old id among the largest magnitudes
+    while (std::abs(projection[largest]) < top - tie) ++largest;
     if (projection[largest] < 0.0) projection = -projection;
     std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return projection[a] < projection[b]; });
+    // A run of projections each within `tie` of the next is one tie,
+    // ordered by old id.
+    const auto at = [&](std::size_t i) { return projection[order[i]]; };
+    for (std::size_t begin = 0; begin < order.size();) {
+      std::size_t end = begin + 1;
+      while (end < order.size() && at(end) - at(end - 1) <= tie) ++end;
+      std::sort(order.begin() + static_cast<std::ptrdiff_t>(begin), order.begin() + static_cast<std::ptrdiff_t>(end));
+      begin = end;
+    }
     return order;
   }
 
