@@ -124,6 +124,25 @@ TEST_CASE("pressure normalisations") {
     CHECK(z.allFinite());
     CHECK(z.isZero(0.0));
   }
+
+  // A sum beyond a double still normalises to 1 (the factor was 1 / inf = 0).
+  Eigen::MatrixXd huge(1, 3);
+  huge << 1e308, 1e308, 5e307;
+  const Eigen::MatrixXd by_sum = normalized(TactileImage(huge), PressureNormalization::Sum);
+  CHECK(by_sum.sum() == doctest::Approx(1.0));
+  CHECK(by_sum(0, 2) == doctest::Approx(0.2));
+  CHECK(normalized(TactileImage(huge), PressureNormalization::L2).norm() == doctest::Approx(1.0));
+  // A statistic whose reciprocal overflows is refused naming the image
+  // (the factor was inf and the image inf and NaN).
+  Eigen::MatrixXd tiny(2, 2);
+  tiny << 1e-310, 0, 2e-310, 0;
+  for (auto n : {PressureNormalization::Max, PressureNormalization::Sum, PressureNormalization::L2}) {
+    CAPTURE(to_string(n));
+    CHECK_THROWS_WITH_AS(normalization_factor(TactileImage(tiny), n), doctest::Contains("image: its "), InvalidArgument);
+  }
+  CHECK(normalization_factor(TactileImage(tiny * 1e10), PressureNormalization::Max) == doctest::Approx(0.5e300));
+  CHECK_THROWS_WITH_AS(normalized(image, PressureNormalization::FullScale, 1e-310),
+                       doctest::Contains("finite reciprocal"), InvalidArgument);
 }
 
 // ---------------------------------------------------------------------------
@@ -417,6 +436,40 @@ TEST_CASE("moments: pressures at the ends of the double range keep the centroid 
   CHECK(t.centroid.y() == 3.0 - 6.5);
   CHECK(t.total == 5e-324);
   CHECK(t.mu20 == 0.0);
+  // The descriptor's mean pressure is finite where the total is not (it
+  // was inf, and extract_features then refused the feature).
+  MomentsDescriptor<double> moments;
+  Eigen::MatrixXd full = Eigen::MatrixXd::Zero(2, 2);
+  full << 1e308, 1e308, 1e308, 0;
+  CHECK(moments.compute(TactileImage(full))[0] == doctest::Approx(7.5e307 / 4095.0));
+  // and non-zero where full_scale * size is beyond a double.
+  MomentsDescriptor<double> wide({1e307});
+  CHECK(wide.compute(TactileImage(bar))[0] == doctest::Approx(3.0 / 84.0 / 1e307));
+}
+
+TEST_CASE("moments: a contact with no preferred axis has orientation 0, whatever the rounding") {
+  // Plus-shaped contacts are 4-fold symmetric; rounding left mu20 - mu02 or
+  // mu11 a few ulps from 0 and the angle at +-pi/2 or -pi/4 for 20 of these.
+  int checked = 0;
+  for (Index r0 = 1; r0 < 13; ++r0)
+    for (Index c0 = 1; c0 < 5; ++c0)
+      for (const double v : {1.0, 3.0, 7.3, 0.1, 4095.0}) {
+        Eigen::MatrixXd p = Eigen::MatrixXd::Zero(14, 6);
+        p(r0, c0) = v;
+        p(r0 - 1, c0) = p(r0 + 1, c0) = p(r0, c0 - 1) = p(r0, c0 + 1) = 0.3 * v;
+        CAPTURE(r0);
+        CAPTURE(c0);
+        CAPTURE(v);
+        CHECK(compute_moments(TactileImage(p)).orientation == 0.0);
+        ++checked;
+      }
+  CHECK(checked == 240);
+  // A slightly longer arm has an axis again.
+  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(14, 6);
+  p(5, 2) = 1;
+  p(4, 2) = p(6, 2) = 0.31;
+  p(5, 1) = p(5, 3) = 0.3;
+  CHECK(compute_moments(TactileImage(p)).orientation == doctest::Approx(kPi / 2));
 }
 
 TEST_CASE("moments: bars give the expected centroid and orientation") {

@@ -31,7 +31,8 @@ struct ImageMoments {
   double mu20 = 0.0, mu11 = 0.0, mu02 = 0.0;
   /// Angle of the contact's major axis from +x towards +y, radians in
   /// (-pi/2, pi/2]: 0 for a bar along a row, pi/2 for a bar along a column.
-  /// 0 when the contact has no preferred axis (mu20 == mu02, mu11 == 0).
+  /// 0 when the contact has no preferred axis (mu20 == mu02 and mu11 == 0,
+  /// to within 64 ulps of mu20 + mu02).
   double orientation = 0.0;
   /// Hu's seven moment invariants (Hu 1962), unchanged by translation and
   /// rotation of the contact (hu[6] changes sign under mirroring). Computed
@@ -102,7 +103,13 @@ inline ImageMoments compute_moments(const TactileImage& image) noexcept {
   m.mu02 = u02 / u00;
   // + 0.0 turns -0 into +0, so atan2 stays in (-pi, pi] and the angle in
   // (-pi/2, pi/2].
-  m.orientation = 0.5 * std::atan2(2.0 * m.mu11 + 0.0, m.mu20 - m.mu02);
+  // A contact with no preferred axis gets 0, also where rounding leaves
+  // mu20 - mu02 and mu11 a few ulps from 0 (a symmetric plus-shaped
+  // contact gave +-pi/2 or -pi/4 by the sign of that noise).
+  const double axis_strength = std::hypot(m.mu20 - m.mu02, 2.0 * m.mu11);
+  m.orientation = axis_strength <= 64.0 * std::numeric_limits<double>::epsilon() * (m.mu20 + m.mu02)
+                      ? 0.0
+                      : 0.5 * std::atan2(2.0 * m.mu11 + 0.0, m.mu20 - m.mu02);
 
   const double s2 = u00 * u00;              // u00^(1 + 2/2)
   const double s3 = s2 * std::sqrt(u00);    // u00^(1 + 3/2)
@@ -164,7 +171,7 @@ class MomentsDescriptor {
     const double area = side * side;
     const double spread = m.mu20 + m.mu02;
     Eigen::Matrix<double, kLength, 1> f;
-    f[0] = m.total / (settings_.full_scale * static_cast<double>(image.size()));
+    f[0] = mean_over_full_scale(image, m.total);
     f[1] = m.centroid.x() / side;
     f[2] = m.centroid.y() / side;
     f[3] = m.mu20 / area;
@@ -177,6 +184,20 @@ class MomentsDescriptor {
   }
 
  private:
+  /// The mean pressure / full_scale: total / (full_scale * size), or where
+  /// the total or that product is beyond a double (pressures near 1e308, a
+  /// huge full_scale), peak * mean(p / peak) / full_scale, which is finite.
+  double mean_over_full_scale(const TactileImage& image, double total) const {
+    const double size = static_cast<double>(image.size());
+    const double denominator = settings_.full_scale * size;
+    if (std::isfinite(total) && std::isfinite(denominator)) return total / denominator;
+    const double peak = image.max();
+    double relative = 0.0;  // sum(p / peak)
+    for (Index c = 0; c < image.cols(); ++c)
+      for (Index r = 0; r < image.rows(); ++r) relative += image(r, c) / peak;
+    return peak * (relative / size) / settings_.full_scale;
+  }
+
   Settings settings_;
 };
 

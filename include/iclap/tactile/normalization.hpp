@@ -30,18 +30,23 @@ inline const char* to_string(PressureNormalization n) noexcept {
   return "unknown";
 }
 
-/// Throws InvalidArgument naming `argument` unless `full_scale` is finite and
-/// positive.
+/// Throws InvalidArgument naming `argument` unless `full_scale` is finite,
+/// positive and has a finite reciprocal (at least about 5.6e-309), the
+/// factor FullScale multiplies by.
 inline void check_full_scale(double full_scale, const std::string& argument = "full_scale") {
-  if (!std::isfinite(full_scale) || full_scale <= 0.0)
-    throw InvalidArgument(argument, "must be finite and > 0, got " + std::to_string(full_scale));
+  if (!std::isfinite(full_scale) || full_scale <= 0.0 || !std::isfinite(1.0 / full_scale))
+    throw InvalidArgument(argument, "must be finite and > 0 with a finite reciprocal, got " + format_value(full_scale));
 }
 
 /// The factor that multiplies every taxel of `image` under normalisation `n`
 /// (`full_scale` is used by FullScale only). A blank image (all zeros) gives
 /// 0 for Max, Sum and L2, so its normalised image is all zeros, never NaN.
-/// Allocation-free, O(rows * cols). Throws InvalidArgument for a bad
-/// `full_scale` when `n` is FullScale.
+/// A sum beyond the range of a double (finite pressures near 1e308) still
+/// gives the factor that makes the taxels sum to 1. Allocation-free,
+/// O(rows * cols). Throws InvalidArgument for a bad `full_scale` when `n`
+/// is FullScale, and naming "image" when the image's peak, sum or norm is so
+/// small (subnormal, below about 5.6e-309) that the factor would be
+/// infinite: rescale such pressures first.
 inline double normalization_factor(const TactileImage& image, PressureNormalization n,
                                    double full_scale = 4095.0) {
   double denominator = 1.0;
@@ -54,7 +59,22 @@ inline double normalization_factor(const TactileImage& image, PressureNormalizat
     case PressureNormalization::Sum: denominator = image.sum(); break;
     case PressureNormalization::L2: denominator = image.pressures().stableNorm(); break;
   }
-  return denominator > 0.0 ? 1.0 / denominator : 0.0;
+  if (!(denominator > 0.0)) return 0.0;
+  if (!std::isfinite(denominator)) {
+    // Only the sum can overflow (the pressures are finite and stableNorm
+    // scales): taken relative to the peak, 1 / (peak * s) = (1 / peak) / s
+    // with s = sum(p / peak) in [1, rows * cols].
+    const double inv_peak = 1.0 / image.max();
+    return inv_peak / (image.pressures() * inv_peak).sum();
+  }
+  const double factor = 1.0 / denominator;
+  if (!std::isfinite(factor))
+    throw InvalidArgument("image", std::string("its ") + (n == PressureNormalization::Max   ? "largest pressure "
+                                                          : n == PressureNormalization::Sum ? "total pressure "
+                                                                                            : "pressure norm ") +
+                                       format_value(denominator) +
+                                       " is too small to normalise by (its reciprocal overflows); rescale the pressures");
+  return factor;
 }
 
 /// The normalised grid (rows x cols), `image.pressures() * factor`. Allocates
