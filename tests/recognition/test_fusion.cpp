@@ -300,6 +300,16 @@ TEST_CASE("normalisation policies") {
     CHECK(d(0) == doctest::Approx(-sign * std::sqrt(2.0)));
     CHECK(d(1) == doctest::Approx(sign / std::sqrt(2.0)));
   }
+  // Distinct distances closer than 1e-150 are not a tie (their squared
+  // deviations underflowed: 1e-150 and 1e-150 (1 + 1e-12) gave 0 and 0).
+  for (const double base : {1e-146, 1e-150, 1e-151, 1e-300}) {
+    CAPTURE(base);
+    d = vec({base, base * (1 + 1e-12), base});
+    normalize(d, Normalization::ZScore);
+    CHECK(d(0) == doctest::Approx(-1 / std::sqrt(2.0)).epsilon(1e-3));
+    CHECK(d(1) == doctest::Approx(std::sqrt(2.0)).epsilon(1e-3));
+    CHECK(d(2) == d(0));
+  }
   d = vec({-1e308, -1e308, 0});
   normalize(d, Normalization::ZScore);
   CHECK(d.isApprox(vec({-1, -1, 2}) / std::sqrt(2.0)));

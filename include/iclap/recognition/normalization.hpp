@@ -78,13 +78,16 @@ inline void normalize(Eigen::Ref<Eigen::VectorXd> d, Normalization kind) {
         d.setZero();
         break;
       }
-      // The z-score does not change with the scale: distances of magnitude
-      // beyond 1e150 (either sign), whose sum or squared deviations would
-      // overflow, and below 1e-150, whose squared deviations would
-      // underflow to 0, are scaled to magnitude 1 first. Others are left as
-      // they are, bit for bit.
+      // The z-score does not change with a shift or a scale: distances of
+      // magnitude beyond 1e150 (either sign), whose sum or squared
+      // deviations would overflow, are scaled to magnitude 1 first, and
+      // distances less than 1e-150 apart, whose squared deviations would
+      // underflow (1e-150 and 1e-150 (1 + 1e-12) gave 0 and 0), are mapped
+      // onto [0, 1] by (d - min) / (max - min). Others are left as they
+      // are, bit for bit.
       const double m = std::max(std::abs(lo), std::abs(hi));
-      if (m > 1e150 || m < 1e-150) d /= m;
+      if (m > 1e150) d /= m;
+      else if (hi - lo < 1e-150) d = (d.array() - lo) / (hi - lo);
       const double mean = d.mean();
       const double sd = std::sqrt((d.array() - mean).square().mean());
       if (sd > 0) d = (d.array() - mean) / sd;
