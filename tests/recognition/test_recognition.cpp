@@ -98,6 +98,14 @@ TEST_CASE("classifier inputs are validated") {
   // (A negative vocabulary reached Eigen's size assertion, an abort.)
   CHECK(error_of([&] { bow.fit({one_word}, -1); }).find("vocabulary | ") == 0);
   CHECK(error_of([&] { bow.fit({one_word}, 0); }).find("vocabulary | ") == 0);
+  // A word id outside the vocabulary names whose words hold it (it said
+  // only "words").
+  TouchSet beyond = one_word;
+  beyond.words(1) = 4;
+  CHECK(error_of([&] { bow.fit({one_word, beyond}, 4); }).find("objects[1].words | word 4 at position 1") == 0);
+  bow.fit({one_word, one_word}, 4);
+  Eigen::VectorXd bow_out(2);
+  CHECK(error_of([&] { bow.distances(beyond, bow_out); }).find("test.words | word 4 at position 1") == 0);
   IcpClassifier<double> icp;
   TouchSet bad = no_words;
   bad.positions(1, 1) = std::numeric_limits<double>::quiet_NaN();

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <typeinfo>
 #include <vector>
 
 #include "iclap/core/error.hpp"
@@ -18,7 +19,8 @@ class BowClassifier final : public Classifier {
  public:
   std::string name() const override { return "bow"; }
 
-  /// Throws EmptyInput naming "objects[j].words" for an object without words.
+  /// Throws EmptyInput naming "objects[j].words" for an object without
+  /// words, InvalidArgument naming it for a word id outside the vocabulary.
   void fit(const std::vector<TouchSet>& objects, Index vocabulary) override {
     if (objects.empty()) throw EmptyInput("objects", "no object to recognise");
     if (vocabulary < 1)
@@ -26,7 +28,7 @@ class BowClassifier final : public Classifier {
     Eigen::MatrixXd h(vocabulary, static_cast<Index>(objects.size()));
     for (std::size_t j = 0; j < objects.size(); ++j) {
       if (objects[j].words.size() == 0) throw EmptyInput("objects[" + std::to_string(j) + "].words");
-      h.col(static_cast<Index>(j)) = word_histogram(objects[j].words, vocabulary);
+      h.col(static_cast<Index>(j)) = histogram_of(objects[j].words, vocabulary, "objects[" + std::to_string(j) + "].words");
     }
     histograms_ = std::move(h);
   }
@@ -34,7 +36,7 @@ class BowClassifier final : public Classifier {
   void distances(const TouchSet& test, Eigen::Ref<Eigen::VectorXd> out) const override {
     if (test.words.size() == 0) throw EmptyInput("test.words", "the BoW classifier needs the test touches' words");
     check_dimension(out.size(), objects(), "out");
-    const WordHistogram h = word_histogram(test.words, histograms_.rows());
+    const WordHistogram h = histogram_of(test.words, histograms_.rows(), "test.words");
     for (Index j = 0; j < histograms_.cols(); ++j) out(j) = histogram_intersection_distance(h, histograms_.col(j));
   }
 
@@ -44,6 +46,17 @@ class BowClassifier final : public Classifier {
   const Eigen::MatrixXd& histograms() const noexcept { return histograms_; }
 
  private:
+  /// word_histogram, with a word id outside the vocabulary named as
+  /// `argument` (which object's words, or the test's).
+  static WordHistogram histogram_of(const WordIds& words, Index vocabulary, const std::string& argument) {
+    try {
+      return word_histogram(words, vocabulary);
+    } catch (const InvalidArgument& e) {
+      if (typeid(e) != typeid(InvalidArgument) || e.argument() != "words") throw;  // e.g. EmptyInput passes as it is
+      throw InvalidArgument(argument, e.reason());
+    }
+  }
+
   Eigen::MatrixXd histograms_;
 };
 
