@@ -73,7 +73,7 @@ TEST_CASE("taxel pitch: a pitch_m= that is not a plausible pitch is refused, quo
   Frame f = frame("a", 0, Eigen::Vector3d(0.0, 0.0, 0.01), 0.0);
   f.pressures(3, 3) = 100;
   ds.frames = {f};
-  for (const std::string value : {"1e308", "0", "-0.003", "1.5", "abc", "inf", "nan"}) {
+  for (const std::string value : {"1e308", "0", "-0.003", "1.5", "abc", "inf", "nan", "1e999", ",0034"}) {
     CAPTURE(value);
     ds.comments = {"sensor: x pitch_m=" + value};
     // Before, 0, "abc", inf and nan fell back to 3.4 mm silently and 1e308
@@ -94,6 +94,8 @@ TEST_CASE("taxel pitch: a pitch_m= that is not a plausible pitch is refused, quo
   }
   ds.comments = {"sensor: x pitch_m=1"};  // the largest pitch allowed
   CHECK(taxel_pitch_of(ds) == 1.0);
+  ds.comments = {"sensor: x pitch_m=1e999"};
+  CHECK_THROWS_WITH(taxel_pitch_of(ds), doctest::Contains("is beyond the range of a double"));
 }
 
 TEST_CASE("contact embedding: test subsampling and reference voxels") {

@@ -485,6 +485,14 @@ TEST_CASE("cross validation refuses what it cannot do") {
   wrong = five;
   wrong.frame.push_back(0);
   CHECK_THROWS_AS(wrong.select({0, 1}), DimensionMismatch);
+  // Fewer feature columns than touches (the codebook read past them).
+  wrong = five;
+  wrong.touches.features.conservativeResize(Eigen::NoChange, wrong.size() - 10);
+  CHECK(error_of([&] { CrossValidation<>(wrong, only_bow, codebook(4), {parse_method("bow")}); })
+            .find("table.touches.features (touches) | has dimension " + std::to_string(wrong.size() - 10)) == 0);
+  wrong = five;
+  wrong.touches.positions(2, 7) = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_AS(CrossValidation<>(wrong, only_bow, codebook(4), {parse_method("bow")}), NonFiniteValue);
 }
 
 TEST_CASE("weights chosen on inner folds need 3 explorations of every object, fixed weights 2") {

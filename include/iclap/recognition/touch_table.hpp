@@ -2,9 +2,11 @@
 #pragma once
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
-#include <cstdlib>
 #include <cstdint>
+#include <cstdlib>
+#include <system_error>
 #include <map>
 #include <string>
 #include <vector>
@@ -38,8 +40,11 @@ struct TouchTable {
   /// .frame when one of them does not hold one entry per touch, and
   /// InvalidArgument naming `argument`.object for an object index outside
   /// [0, objects.size()) (a table built by hand; make_touch_table's are
-  /// consistent). The touches themselves are checked by the classifiers.
+  /// consistent), and what TouchSet::validate throws for the touches
+  /// (naming `argument`.touches: parts that disagree in length, such as
+  /// fewer feature columns than touches, or a value that is not finite).
   void validate(const std::string& argument = "table") const {
+    if (size() > 0) touches.validate(argument + ".touches");
     check_dimension(static_cast<Index>(object.size()), size(), argument + ".object (touches)");
     check_dimension(static_cast<Index>(exploration.size()), size(), argument + ".exploration (touches)");
     check_dimension(static_cast<Index>(frame.size()), size(), argument + ".frame (touches)");
@@ -99,15 +104,18 @@ inline double taxel_pitch_of(const Dataset& dataset, double fallback = 0.0034) {
   for (const auto& c : dataset.comments) {
     const auto at = c.find("pitch_m=");
     if (at == std::string::npos) continue;
-    const char* begin = c.c_str() + at + 8;
-    char* end = nullptr;
-    const double v = std::strtod(begin, &end);
-    if (end != begin && std::isfinite(v) && v > 0 && v <= kLargestTaxelPitch) return v;
+    // from_chars, not strtod: the same in every locale (strtod read
+    // "0.0034" as 0 where the decimal separator is a comma).
+    double v = 0;
+    const auto read = std::from_chars(c.data() + at + 8, c.data() + c.size(), v);
+    if (read.ec == std::errc() && std::isfinite(v) && v > 0 && v <= kLargestTaxelPitch) return v;
     throw InvalidArgument("dataset", "the pitch_m= of comment " + quote_text(c, 120) +
-                                         (end == begin ? std::string(" is not a number")
-                                                       : " gives a taxel pitch of " + format_value(v) + " m, outside (0, " +
-                                                             format_value(kLargestTaxelPitch) +
-                                                             "] m (a pad's taxels are millimetres apart)"));
+                                         (read.ec == std::errc::invalid_argument ? std::string(" is not a number")
+                                          : read.ec == std::errc::result_out_of_range
+                                              ? std::string(" is beyond the range of a double")
+                                              : " gives a taxel pitch of " + format_value(v) + " m, outside (0, " +
+                                                    format_value(kLargestTaxelPitch) +
+                                                    "] m (a pad's taxels are millimetres apart)"));
   }
   return fallback;
 }
