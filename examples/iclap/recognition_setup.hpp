@@ -447,8 +447,8 @@ struct RecognitionOptions {
                                given("placement-yaw-deg", degrees(placement_yaw)) + " and " +
                                given("placement-yaw-step-deg", degrees(placement_yaw_step));
       const std::string& a = e.argument();
-      if (a == "settings.voxel") throw UsageError(voxel + ": " + e.reason());
-      if (a == "settings.truncation") throw UsageError(truncation + " with " + voxel + ": " + e.reason());
+      if (a == "voxel") throw UsageError(voxel + ": " + e.reason());
+      if (a == "truncation") throw UsageError(truncation + " with " + voxel + ": " + e.reason());
       if (a == "free_radius") throw UsageError(free_radius + " with " + truncation + ": " + e.reason());
       if (a == "conflict_weight") throw UsageError(conflict + ": " + e.reason());
       if (a == "unknown_cost") throw UsageError(unknown + ": " + e.reason());

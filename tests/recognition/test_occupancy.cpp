@@ -421,7 +421,17 @@ TEST_CASE("occupancy: bad settings, missing taxels and misuse are refused, namin
   CHECK(error_of([&] { c.fit(training(), 0); }).find("conflict_weight") != std::string::npos);
   c = OccupancyClassifier{};
   c.truncation = 0.1;  // 100 voxels
-  CHECK(error_of([&] { c.fit(training(), 0); }).find("settings.truncation") != std::string::npos);
+  CHECK(error_of([&] { c.fit(training(), 0); }).find("truncation: must be > 0 and at most 64 voxels") == 0);
+  // Named by the classifier's members (the field's "settings.voxel" and
+  // "settings.truncation" are not its settings), and a free_radius the
+  // free points' field refuses is refused by validate() already, as itself
+  // (fit named it "settings.truncation").
+  c = OccupancyClassifier{};
+  c.voxel = 0;
+  CHECK(error_of([&] { c.validate(); }).find("voxel: must be finite and > 0") == 0);
+  c = OccupancyClassifier{};
+  c.free_radius = 1e-20;
+  CHECK(error_of([&] { c.validate(); }).find("free_radius: must square to a normal finite float") == 0);
   c = OccupancyClassifier{};
   c.placements.yaw_step = 0;
   CHECK(error_of([&] { c.fit(training(), 0); }).find("placements.yaw_step") != std::string::npos);

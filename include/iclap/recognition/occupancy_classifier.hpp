@@ -163,12 +163,15 @@ class OccupancyClassifier final : public Classifier {
 
   std::string name() const override { return label.empty() ? "occupancy" : label; }
 
-  /// Throws InvalidArgument naming the first setting out of range.
+  /// Throws InvalidArgument naming the first setting out of range ("voxel",
+  /// "truncation", "free_radius", ...), so that fit refuses nothing
+  /// validate() accepted.
   void validate() const {
-    TruncatedDistanceField::validate({voxel, truncation});
+    check_field(truncation, "truncation");
     if (!(std::isfinite(free_radius) && free_radius > 0 && free_radius <= truncation))
       throw InvalidArgument("free_radius", "must be > 0 and at most truncation (" + format_value(truncation) +
                                                " m), got " + format_value(free_radius));
+    check_field(free_radius, "free_radius");  // the free points' field
     check_non_negative(conflict_weight, "conflict_weight");
     if (!(unknown_cost >= 0 && unknown_cost <= 1))
       throw InvalidArgument("unknown_cost", "must be in [0, 1], got " + format_value(unknown_cost));
@@ -273,6 +276,19 @@ class OccupancyClassifier final : public Classifier {
   }
 
  private:
+  /// TruncatedDistanceField::validate of a field with lattice `voxel` and
+  /// reach `reach`, its errors named by this classifier's members ("voxel",
+  /// and `name` for the reach) rather than the field's "settings.*".
+  void check_field(double reach, const char* name) const {
+    try {
+      TruncatedDistanceField::validate({voxel, reach});
+    } catch (const InvalidArgument& e) {
+      if (e.argument() == "settings.voxel") throw InvalidArgument("voxel", e.reason());
+      if (e.argument() == "settings.truncation") throw InvalidArgument(name, e.reason());
+      throw;
+    }
+  }
+
   struct Reference {
     TruncatedDistanceField occupied, free;
     Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // the turns' vertical axis
