@@ -373,6 +373,12 @@ TEST_CASE("live weights: fixed methods pass through, fitted ones come from the g
     if (t.exploration[static_cast<std::size_t>(i)] < 12) keep.push_back(i);
   const TouchTable two = t.select(keep);
   CHECK(choose_live_weights(two, test::paper_classifiers, codebook(), fitted, s).folds == 2);
+  // Too few weight steps for the terms are named as CrossValidation names
+  // them (it said "steps").
+  s.weight_steps = 3;
+  CHECK_THROWS_WITH_AS(
+      choose_live_weights(t, test::paper_classifiers, codebook(), parse_method("iclap+icp+bow+iclapn"), s),
+      doctest::Contains("weight_steps: is 3, fewer than the 4 terms"), InvalidArgument);
 }
 
 TEST_CASE("live evaluation: replays held-out explorations in time order, deterministic for any thread count") {
@@ -444,6 +450,20 @@ TEST_CASE("live evaluation: replays held-out explorations in time order, determi
     CHECK(mid.touches[k] == expect);
   }
   CHECK(r.fixed(12).accuracy() > 0.9);
+  // A trace shorter than min_touches stops at its end, not confident (it
+  // was read at its last touch and counted confident).
+  {
+    LiveEvaluationResult shorter = r;
+    for (auto& tr : shorter.traces) {
+      tr.best.resize(2);
+      tr.confidence.assign(2, 0.9);
+      tr.fused.resize(2);
+    }
+    const LiveStopOutcome o = shorter.stop(LiveStopRule{0.5, 5, 0});
+    CHECK(o.confident == 0);
+    for (const Index n : o.touches) CHECK(n == 2);
+    CHECK(shorter.stop(LiveStopRule{0.5, 2, 0}).confident == 12);
+  }
   CHECK_THROWS_AS(r.stop(LiveStopRule{0.5, 1, 13}), InvalidArgument);
   CHECK_THROWS_AS(r.fixed(0), InvalidArgument);
   CHECK_THROWS_AS(r.fixed(13), InvalidArgument);
@@ -459,6 +479,16 @@ TEST_CASE("live evaluation: replays held-out explorations in time order, determi
 
   s.max_touches = 0;
   CHECK_THROWS_AS(evaluate_live_stopping(t, test::paper_classifiers, codebook(), method, s), InvalidArgument);
+  // A normalisation live sessions refuse is refused before any run (it
+  // was refused by the first replay, after the whole cross validation).
+  s.max_touches = 4;
+  s.cross_validation.normalization = Normalization::MinMax;
+  int ran = 0;
+  CHECK_THROWS_WITH_AS(evaluate_live_stopping(t, test::paper_classifiers, codebook(), method, s,
+                                              [&](std::size_t, std::size_t) { ++ran; }),
+                       doctest::Contains("cross_validation.normalization: live recognition needs l2"), InvalidArgument);
+  CHECK(ran == 0);
+  s.cross_validation.normalization = Normalization::L2;
   // Fitted weights need inner folds: 3 explorations of every object.
   s.max_touches = 4;
   std::vector<Index> keep;

@@ -170,14 +170,7 @@ class CrossValidation {
       m.validate();
       // Checked here, naming the setting (run()'s weight_grid named "steps").
       if (m.fit_weights)
-        for (const auto& c : m.candidates())
-          if (!weight_grid_has_room(static_cast<int>(c.children().size()), settings_.weight_steps,
-                                    settings_.zero_weights))
-            throw InvalidArgument("weight_steps", "is " + std::to_string(settings_.weight_steps) + ", fewer than the " +
-                                                      std::to_string(c.children().size()) + " terms of method '" +
-                                                      m.name + "' (" + c.to_string() +
-                                                      "), each weighted at least one step; raise it or allow zero "
-                                                      "weights");
+        for (const auto& c : m.candidates()) check_weight_steps(m.name, c, settings_.weight_steps, settings_.zero_weights);
     }
     Recognizer probe(factory_(), settings_.normalization);
     probe.check(methods_);

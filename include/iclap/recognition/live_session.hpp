@@ -161,6 +161,16 @@ inline std::vector<Index> rank_objects(const Eigen::Ref<const Eigen::VectorXd>& 
   return order;
 }
 
+namespace detail {
+/// Throws InvalidArgument naming `argument` unless `n` is L2, the only
+/// normalisation live recognition takes.
+inline void check_live_normalization(Normalization n, const std::string& argument) {
+  if (n != Normalization::L2)
+    throw InvalidArgument(argument, std::string("live recognition needs l2 normalisation (got ") + iclap::to_string(n) +
+                                        "): its confidence 1 - d1/d2 needs distances whose 0 is a perfect match");
+}
+}  // namespace detail
+
 /// The incremental recognition state of one live exploration: the touches
 /// so far (positions, descriptors, words, and normals and contact points when
 /// the pad orientation is known) and, after each add_touch(), the
@@ -193,10 +203,7 @@ class LiveSession {
     rule_.validate();
     if (vocabulary_ < 0) throw InvalidArgument("vocabulary", "must be >= 0, got " + std::to_string(vocabulary_));
     if (recognizer.objects() < 1) throw InvalidArgument("recognizer", "is not fitted (no object to recognise)");
-    if (recognizer.normalization() != Normalization::L2)
-      throw InvalidArgument("normalization", std::string("live recognition needs l2 normalisation (got ") +
-                                                 iclap::to_string(recognizer.normalization()) +
-                                                 "): its confidence 1 - d1/d2 needs distances whose 0 is a perfect match");
+    detail::check_live_normalization(recognizer.normalization(), "normalization");
     recognizer.check({Method{fusion_.to_string(), fusion_, false, {}}});
     touches_.positions.resize(3, 0);
   }
@@ -472,6 +479,7 @@ LiveWeights choose_live_weights(const TouchTable& table, const ClassifierFactory
   LiveWeights out{method.fusion, {}, 0, 0, 0};
   if (!method.fit_weights) return out;
   settings.validate();
+  check_weight_steps(method.name, method.fusion, settings.weight_steps, settings.zero_weights);
   const auto grid =
       weight_grid(static_cast<int>(method.fusion.children().size()), settings.weight_steps, settings.zero_weights);
   std::vector<Method> candidates;
@@ -516,9 +524,13 @@ struct LiveEvaluationSettings {
     return s;
   }();
 
+  /// Also refuses a normalisation other than L2 (naming
+  /// "cross_validation.normalization"), before any run: the replays are live
+  /// sessions.
   void validate() const {
     if (max_touches < 1) throw InvalidArgument("max_touches", "must be >= 1, got " + std::to_string(max_touches));
     cross_validation.validate();
+    detail::check_live_normalization(cross_validation.normalization, "cross_validation.normalization");
   }
 };
 
@@ -573,7 +585,8 @@ struct LiveEvaluationResult {
   CrossValidationResult random_draws;
 
   /// Where `rule` stops on every trace: the first n in [min_touches, limit]
-  /// whose confidence reaches rule.confidence, else the limit, which is
+  /// whose confidence reaches rule.confidence, else (not confident; also
+  /// where the limit is below min_touches) the limit, which is
   /// rule.max_touches (0: this result's max_touches) or the touches the
   /// exploration has, whichever is smaller. Throws InvalidArgument naming
   /// "rule" when its max_touches exceeds what was replayed.
@@ -589,7 +602,9 @@ struct LiveEvaluationResult {
       const Index limit = std::min(cap, t.replayed());
       Index n = limit;
       bool confident = false;
-      for (Index k = std::min(rule.min_touches, limit); k <= limit; ++k)
+      // A trace shorter than min_touches stops at its end, not confident
+      // (as a LiveSession, which is confident only from min_touches on).
+      for (Index k = rule.min_touches; k <= limit; ++k)
         if (t.confidence[static_cast<std::size_t>(k - 1)] >= rule.confidence) {
           n = k;
           confident = true;

@@ -224,6 +224,18 @@ inline bool weight_grid_has_room(int terms, int steps, bool zero_weights) noexce
   return zero_weights || steps >= terms;
 }
 
+/// Throws InvalidArgument naming "weight_steps" when `steps` steps (with
+/// `zero_weights`) leave no weight vector for the terms of `candidate`, a
+/// fusion of method `method` whose weights are chosen on the grid: checked
+/// before a run, naming the setting (weight_grid names its "steps").
+inline void check_weight_steps(const std::string& method, const Fusion& candidate, int steps, bool zero_weights) {
+  const std::size_t terms = candidate.children().size();
+  if (!weight_grid_has_room(static_cast<int>(terms), steps, zero_weights))
+    throw InvalidArgument("weight_steps", "is " + std::to_string(steps) + ", fewer than the " + std::to_string(terms) +
+                                              " terms of method '" + method + "' (" + candidate.to_string() +
+                                              "), each weighted at least one step; raise it or allow zero weights");
+}
+
 /// The paper's brute-force weight grid: every vector of `terms` weights that
 /// are multiples of 1/`steps` (0.1 for steps = 10), each at least one step,
 /// summing to 1; in lexicographic order. 2 terms: 9 vectors (0.1..0.9);
