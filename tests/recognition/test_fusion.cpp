@@ -198,6 +198,16 @@ TEST_CASE("method names, parsing and the weight grid") {
   CHECK(z3.front() == std::vector<double>{0.0, 0.0, 1.0});
   for (const auto& w : z3) CHECK(w[0] + w[1] + w[2] == 1.0);
   CHECK(weight_grid(4, 3, true).size() == 20);
+  // weight_grid_size counts the grid without building it.
+  for (int terms = 1; terms <= 5; ++terms)
+    for (int steps = terms; steps <= 12; ++steps)
+      for (const bool zero : {false, true}) {
+        CAPTURE(terms);
+        CAPTURE(steps);
+        CAPTURE(zero);
+        CHECK(weight_grid_size(terms, steps, zero) == static_cast<double>(weight_grid(terms, steps, zero).size()));
+      }
+  CHECK(weight_grid_size(4, 1000, false) == 999.0 * 998.0 * 997.0 / 6.0);
   CHECK_THROWS_AS(weight_grid(2, 0, true), InvalidArgument);
   CHECK(weight_grid(1).size() == 1);
   CHECK_THROWS_AS(weight_grid(4, 3), InvalidArgument);

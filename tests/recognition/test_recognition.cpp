@@ -471,6 +471,20 @@ TEST_CASE("cross validation refuses what it cannot do") {
             .find("weight_steps | is 3, fewer than the 4 terms of method 'iclap+icp+bow+iclapn'") == 0);
   coarse.zero_weights = true;
   CHECK_NOTHROW(CrossValidation<>(five, all_classifiers, codebook(4), four, coarse));
+  // A grid too large to search is refused before it is built (4 terms of
+  // 1000 steps: 1.7e8 vectors, which weight_grid would have allocated).
+  CrossValidationSettings fine;
+  fine.weight_steps = 1000;
+  CHECK(error_of([&] { CrossValidation<>(five, all_classifiers, codebook(4), four, fine); })
+            .find("weight_steps | is 1000: the grid of the 4 terms of method 'iclap+icp+bow+iclapn'") == 0);
+  // More draws than the random streams tell apart are refused.
+  CrossValidationSettings many;
+  many.repeats = CrossValidationSettings::kMaxRepeats + 1;
+  CHECK(error_of([&] { many.validate(); }).find("repeats | must be >= 1 and <= 1048576") == 0);
+  many.repeats = CrossValidationSettings::kMaxRepeats;
+  CHECK_NOTHROW(many.validate());
+  many.weight_repeats = CrossValidationSettings::kMaxRepeats + 1;
+  CHECK(error_of([&] { many.validate(); }).find("weight_repeats | must be >= 1 and <= 1048576") == 0);
 
   // A hand-built table whose per-touch vectors disagree, or whose object
   // index is out of range, is refused (both read out of bounds).

@@ -30,11 +30,15 @@ namespace iclap {
 struct CrossValidationSettings {
   /// Numbers of touches per test, each >= 1 (paper: 1 to 20).
   std::vector<int> touches = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20};
-  /// Random draws of the touches per (fold, object, number of touches).
+  /// Random draws of the touches per (fold, object, number of touches), at
+  /// most kMaxRepeats (each draw has a random stream of its own).
   int repeats = 10;
   /// Draws per (inner fold, object, number of touches) for choosing fusion
-  /// weights on the training folds.
+  /// weights on the training folds; at most kMaxRepeats.
   int weight_repeats = 2;
+  /// The most draws per case: the draw index has 20 bits of the random
+  /// stream's id, so more draws would repeat earlier draws' streams.
+  static constexpr int kMaxRepeats = 1 << 20;
   /// Weight grid resolution: weights are multiples of 1/weight_steps (0.1).
   int weight_steps = 10;
   /// Let the grid give a classifier weight 0 (beyond the paper, whose grid
@@ -54,8 +58,10 @@ struct CrossValidationSettings {
     if (touches.empty()) throw EmptyInput("touches", "no number of touches to evaluate");
     for (int t : touches)
       if (t < 1) throw InvalidArgument("touches", "every number of touches must be >= 1, got " + std::to_string(t));
-    if (repeats < 1) throw InvalidArgument("repeats", "must be >= 1, got " + std::to_string(repeats));
-    if (weight_repeats < 1) throw InvalidArgument("weight_repeats", "must be >= 1, got " + std::to_string(weight_repeats));
+    for (const auto& [name, value] : {std::pair<const char*, int>{"repeats", repeats}, {"weight_repeats", weight_repeats}})
+      if (value < 1 || value > kMaxRepeats)
+        throw InvalidArgument(name, "must be >= 1 and <= " + std::to_string(kMaxRepeats) +
+                                        " (each draw has a random stream of its own), got " + std::to_string(value));
     if (weight_steps < 3) throw InvalidArgument("weight_steps", "must be >= 3, got " + std::to_string(weight_steps));
     if (threads < 0) throw InvalidArgument("threads", "must be >= 0, got " + std::to_string(threads));
   }

@@ -224,16 +224,37 @@ inline bool weight_grid_has_room(int terms, int steps, bool zero_weights) noexce
   return zero_weights || steps >= terms;
 }
 
+/// The most weight vectors a fitted method's grid may have: each is
+/// evaluated on every inner-fold draw.
+constexpr double kMaxWeightGrid = 1e6;
+
+/// The number of vectors of weight_grid(terms, steps, zero_weights), as a
+/// double (it can exceed any integer type): the compositions of `steps`
+/// into `terms` parts, C(steps - 1, terms - 1), or C(steps + terms - 1,
+/// terms - 1) when parts may be 0.
+inline double weight_grid_size(int terms, int steps, bool zero_weights) noexcept {
+  const double n = zero_weights ? static_cast<double>(steps) + terms - 1 : static_cast<double>(steps) - 1;
+  double c = 1;
+  for (int i = 1; i < terms; ++i) c = c * (n - (terms - 1) + i) / i;
+  return c;
+}
+
 /// Throws InvalidArgument naming "weight_steps" when `steps` steps (with
 /// `zero_weights`) leave no weight vector for the terms of `candidate`, a
-/// fusion of method `method` whose weights are chosen on the grid: checked
-/// before a run, naming the setting (weight_grid names its "steps").
+/// fusion of method `method` whose weights are chosen on the grid, or give
+/// it more than kMaxWeightGrid vectors: checked before a run, naming the
+/// setting (weight_grid names its "steps", and builds any grid asked for).
 inline void check_weight_steps(const std::string& method, const Fusion& candidate, int steps, bool zero_weights) {
   const std::size_t terms = candidate.children().size();
+  const std::string of_method = " terms of method '" + method + "' (" + candidate.to_string() + ")";
   if (!weight_grid_has_room(static_cast<int>(terms), steps, zero_weights))
     throw InvalidArgument("weight_steps", "is " + std::to_string(steps) + ", fewer than the " + std::to_string(terms) +
-                                              " terms of method '" + method + "' (" + candidate.to_string() +
-                                              "), each weighted at least one step; raise it or allow zero weights");
+                                              of_method + ", each weighted at least one step; raise it or allow zero weights");
+  const double size = weight_grid_size(static_cast<int>(terms), steps, zero_weights);
+  if (size > kMaxWeightGrid)
+    throw InvalidArgument("weight_steps", "is " + std::to_string(steps) + ": the grid of the " + std::to_string(terms) +
+                                              of_method + " has " + format_value(size) + " weight vectors, more than " +
+                                              format_value(kMaxWeightGrid) + "; lower it");
 }
 
 /// The paper's brute-force weight grid: every vector of `terms` weights that
