@@ -132,6 +132,10 @@ TEST_CASE("pressure normalisations") {
   CHECK(by_sum.sum() == doctest::Approx(1.0));
   CHECK(by_sum(0, 2) == doctest::Approx(0.2));
   CHECK(normalized(TactileImage(huge), PressureNormalization::L2).norm() == doctest::Approx(1.0));
+  // A norm beyond a double too: 84 taxels at 1e308 (the factor was 0).
+  const TactileImage full_pad(Eigen::MatrixXd::Constant(14, 6, 1e308));
+  CHECK(normalized(full_pad, PressureNormalization::L2).norm() == doctest::Approx(1.0));
+  CHECK(normalized(full_pad, PressureNormalization::Sum).sum() == doctest::Approx(1.0));
   // A statistic whose reciprocal overflows is refused naming the image
   // (the factor was inf and the image inf and NaN).
   Eigen::MatrixXd tiny(2, 2);

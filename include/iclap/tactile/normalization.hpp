@@ -41,8 +41,9 @@ inline void check_full_scale(double full_scale, const std::string& argument = "f
 /// The factor that multiplies every taxel of `image` under normalisation `n`
 /// (`full_scale` is used by FullScale only). A blank image (all zeros) gives
 /// 0 for Max, Sum and L2, so its normalised image is all zeros, never NaN.
-/// A sum beyond the range of a double (finite pressures near 1e308) still
-/// gives the factor that makes the taxels sum to 1. Allocation-free,
+/// A sum or norm beyond the range of a double (finite pressures near
+/// 1e308) still gives the factor that makes the taxels sum to 1 (Sum) or
+/// their norm 1 (L2). Allocation-free,
 /// O(rows * cols). Throws InvalidArgument for a bad `full_scale` when `n`
 /// is FullScale, and naming "image" when the image's peak, sum or norm is so
 /// small (subnormal, below about 5.6e-309) that the factor would be
@@ -61,11 +62,13 @@ inline double normalization_factor(const TactileImage& image, PressureNormalizat
   }
   if (!(denominator > 0.0)) return 0.0;
   if (!std::isfinite(denominator)) {
-    // Only the sum can overflow (the pressures are finite and stableNorm
-    // scales): taken relative to the peak, 1 / (peak * s) = (1 / peak) / s
-    // with s = sum(p / peak) in [1, rows * cols].
+    // The sum, or the norm, of pressures near 1e308 is beyond a double (the
+    // peak is not): taken relative to the peak, 1 / (peak * s) =
+    // (1 / peak) / s with s the same statistic of p / peak, in
+    // [1, rows * cols].
     const double inv_peak = 1.0 / image.max();
-    return inv_peak / (image.pressures() * inv_peak).sum();
+    return inv_peak / (n == PressureNormalization::Sum ? (image.pressures() * inv_peak).sum()
+                                                       : (image.pressures() * inv_peak).norm());
   }
   const double factor = 1.0 / denominator;
   if (!std::isfinite(factor))
