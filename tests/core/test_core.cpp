@@ -14,6 +14,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <typeinfo>
 #include <utility>
 #include <vector>
 
@@ -324,4 +325,54 @@ TEST_CASE("format_exact: the shortest text that reads back to the value in its t
   CHECK(format_exact(std::nextafter(1.0f, 2.0f)) == "1.0000001");
   CHECK(format_exact(-0.0) == "-0");
   CHECK(format_exact(0.1) == "0.1");
+}
+
+TEST_CASE("rename_argument: a plain InvalidArgument naming `from` is renamed, everything else passes as it is") {
+  // The value of f is returned, also by reference and for void.
+  int calls = 0;
+  CHECK(rename_argument("x", "y", [] { return 7; }) == 7);
+  int target = 1;
+  int& ref = rename_argument("x", "y", [&]() -> int& { return target; });
+  CHECK(&ref == &target);
+  rename_argument("x", "y", [&] { ++calls; });
+  CHECK(calls == 1);
+
+  auto caught = [](auto&& f) -> std::pair<std::string, std::string> {
+    try {
+      f();
+    } catch (const InvalidArgument& e) {
+      return {typeid(e) == typeid(InvalidArgument) ? "InvalidArgument" : "derived", e.what()};
+    }
+    return {"none", ""};
+  };
+  // Renamed, same reason; a callable name is called only then.
+  CHECK(caught([] { rename_argument("image", "images[3]", [] { throw InvalidArgument("image", "is odd"); }); }) ==
+        std::pair<std::string, std::string>("InvalidArgument", "images[3]: is odd"));
+  int named = 0;
+  auto name = [&] {
+    ++named;
+    return std::string("images[4]");
+  };
+  CHECK(caught([&] { rename_argument("image", name, [] { throw InvalidArgument("image", "is odd"); }); }).second ==
+        "images[4]: is odd");
+  CHECK(named == 1);
+  CHECK(rename_argument("image", name, [] { return 1; }) == 1);
+  CHECK(named == 1);
+  // Another argument, or a derived error naming `from`, passes unchanged.
+  CHECK(caught([] { rename_argument("image", "images[3]", [] { throw InvalidArgument("settings.k", "is 0"); }); }) ==
+        std::pair<std::string, std::string>("InvalidArgument", "settings.k: is 0"));
+  CHECK(caught([] { rename_argument("image", "images[3]", [] { throw EmptyInput("image"); }); }) ==
+        std::pair<std::string, std::string>("derived", "image: is empty"));
+  CHECK(caught([] { rename_argument("image", "images[3]", [] { throw DimensionMismatch("image", 84, 83); }); }) ==
+        std::pair<std::string, std::string>("derived", "image: has dimension 83, expected 84"));
+  // Nested renames map two names.
+  auto both = [](const char* which) {
+    rename_argument("settings.voxel", "voxel", [&] {
+      rename_argument("settings.truncation", "free_radius", [&] { throw InvalidArgument(which, "bad"); });
+    });
+  };
+  CHECK(caught([&] { both("settings.voxel"); }).second == "voxel: bad");
+  CHECK(caught([&] { both("settings.truncation"); }).second == "free_radius: bad");
+  // Other exceptions are not touched.
+  CHECK_THROWS_AS(rename_argument("x", "y", [] { throw std::runtime_error("x"); }), std::runtime_error);
 }

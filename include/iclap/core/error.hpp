@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
+#include <typeinfo>
 #include <utility>
 
 namespace iclap {
@@ -76,6 +78,25 @@ class NonFiniteValue : public InvalidArgument {
   std::ptrdiff_t row_;
   std::ptrdiff_t column_;
 };
+
+/// Returns `f()`; an InvalidArgument of exactly that type naming `from` is
+/// thrown again naming `to`, with the same reason. Lets a caller give a
+/// callee's parameter ("image", "settings.voxel") the name its own user
+/// knows ("images[3]", "voxel"). Derived errors (EmptyInput,
+/// DimensionMismatch, NonFiniteValue) and other arguments pass through as
+/// they are. `to` is a string, or a callable returning one, called only
+/// when an error is renamed (so a name such as "images[j]" costs nothing on
+/// the normal path).
+template <typename To, typename F>
+decltype(auto) rename_argument(std::string_view from, const To& to, F&& f) {
+  try {
+    return std::forward<F>(f)();
+  } catch (const InvalidArgument& e) {
+    if (typeid(e) != typeid(InvalidArgument) || e.argument() != from) throw;
+    if constexpr (std::is_invocable_v<const To&>) throw InvalidArgument(std::string(to()), e.reason());
+    else throw InvalidArgument(std::string(to), e.reason());
+  }
+}
 
 /// A file or stream could not be parsed. `what()` reads "FILE:LINE: reason",
 /// the form compilers use, so editors and terminals can jump to the line.

@@ -2,7 +2,6 @@
 #pragma once
 
 #include <string>
-#include <typeinfo>
 #include <vector>
 
 #include "iclap/core/error.hpp"
@@ -49,12 +48,7 @@ class BowClassifier final : public Classifier {
   /// word_histogram, with a word id outside the vocabulary named as
   /// `argument` (which object's words, or the test's).
   static WordHistogram histogram_of(const WordIds& words, Index vocabulary, const std::string& argument) {
-    try {
-      return word_histogram(words, vocabulary);
-    } catch (const InvalidArgument& e) {
-      if (typeid(e) != typeid(InvalidArgument) || e.argument() != "words") throw;  // e.g. EmptyInput passes as it is
-      throw InvalidArgument(argument, e.reason());
-    }
+    return rename_argument("words", argument, [&] { return word_histogram(words, vocabulary); });
   }
 
   Eigen::MatrixXd histograms_;

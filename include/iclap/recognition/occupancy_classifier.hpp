@@ -280,13 +280,9 @@ class OccupancyClassifier final : public Classifier {
   /// reach `reach`, its errors named by this classifier's members ("voxel",
   /// and `name` for the reach) rather than the field's "settings.*".
   void check_field(double reach, const char* name) const {
-    try {
-      TruncatedDistanceField::validate({voxel, reach});
-    } catch (const InvalidArgument& e) {
-      if (e.argument() == "settings.voxel") throw InvalidArgument("voxel", e.reason());
-      if (e.argument() == "settings.truncation") throw InvalidArgument(name, e.reason());
-      throw;
-    }
+    rename_argument("settings.voxel", "voxel", [&] {
+      rename_argument("settings.truncation", name, [&] { TruncatedDistanceField::validate({voxel, reach}); });
+    });
   }
 
   struct Reference {

@@ -28,7 +28,6 @@
 #include <iterator>
 #include <string>
 #include <type_traits>
-#include <typeinfo>
 #include <utility>
 
 #include <Eigen/Core>
@@ -119,12 +118,8 @@ namespace detail {
 /// type and pass through.
 template <typename D>
 typename DescriptorTraits<D>::Feature compute_naming_image(const D& descriptor, const TactileImage& image, Index j) {
-  try {
-    return descriptor.compute(image);
-  } catch (const InvalidArgument& e) {
-    if (typeid(e) != typeid(InvalidArgument) || e.argument() != "image") throw;
-    throw InvalidArgument("images[" + std::to_string(j) + "]", e.reason());
-  }
+  return rename_argument("image", [j] { return "images[" + std::to_string(j) + "]"; },
+                         [&] { return descriptor.compute(image); });
 }
 }  // namespace detail
 
