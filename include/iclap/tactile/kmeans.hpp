@@ -595,26 +595,25 @@ class KMeansQuantizer {
 
     // Optional renumbering of the words (word_ordering.hpp).
     const std::vector<Index> order = word_order(centres, settings.ordering);
+    bool renumbered = false;
     Features ordered(d, k);
-    WordIds new_id(k);
     for (Index j = 0; j < k; ++j) {
       const Index old = order[static_cast<std::size_t>(j)];
+      renumbered = renumbered || old != j;
       ordered.col(j) = centres.col(old);
-      new_id[old] = j;
     }
-    result.cluster_sizes.resize(k);
-    for (Index j = 0; j < k; ++j) result.cluster_sizes[new_id[j]] = sizes[j];
-    result.labels.resize(n);
-    for (Index i = 0; i < n; ++i) result.labels[i] = new_id[labels[i]];
     install(std::move(ordered));
-    // A feature equally close to two words went to the smaller old id; after
-    // a renumbering, assign() gives it the smaller new one. The labels are
-    // taken again from the installed search so that they equal assign()
-    // (ties are the only features that can move; the inertia is the same).
-    bool renumbered = false;
-    for (Index j = 0; j < k; ++j) renumbered = renumbered || order[static_cast<std::size_t>(j)] != j;
-    if (renumbered) {
-      result.cluster_sizes.setZero();
+    if (!renumbered) {
+      result.labels = std::move(labels);
+      result.cluster_sizes = std::move(sizes);
+    } else {
+      // A feature equally close to two words went to the smaller old id;
+      // assign() gives it the smaller new one. The labels are taken from the
+      // installed search so that they equal assign() (ties are the only
+      // features whose word is not the renumbered old one; the inertia is
+      // the same).
+      result.labels.resize(n);
+      result.cluster_sizes = WordIds::Zero(k);
       for (Index i = 0; i < n; ++i) {
         result.labels[i] = search_.nearest(features.col(i).data()).index;
         ++result.cluster_sizes[result.labels[i]];
