@@ -199,9 +199,10 @@ class Classifier {
  protected:
   /// `prepared` as the preparation type `P` of this classifier, null when it
   /// is null; throws InvalidArgument naming "subset" for an index outside
-  /// `pool` (whether or not there is a preparation) and "prepared" when it is not a `P` made for `pool`'s touches
-  /// `subset` by the fit `fit_id` (another classifier's, another pool's, or
-  /// one from before the last fit).
+  /// `pool` (whether or not there is a preparation) and "prepared" when it
+  /// is not a `P` made for `pool`'s touches `subset` by the fit `fit_id`
+  /// (another classifier's, another pool's, or one from before the last
+  /// fit).
   template <typename P>
   static const P* checked_preparation(const PreparedPool* prepared, std::uint64_t fit_id, const TouchSet& pool,
                                       const std::vector<Index>& subset) {

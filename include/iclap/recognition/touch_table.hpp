@@ -6,9 +6,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
-#include <system_error>
 #include <map>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "iclap/core/check.hpp"
