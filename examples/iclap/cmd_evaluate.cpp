@@ -76,6 +76,8 @@ const std::string kUsage = std::string(
     "  --weight-repeats N      draws per case on the inner folds for the weights (default 2)\n"
     "  --zero-weights          let the weight grid give a classifier weight 0, i.e. drop it\n"
     "                          (beyond the paper, whose grid gives each at least 0.1)\n"
+    "  --inner-codebooks       fit a codebook for every inner fold on its own training\n"
+    "                          touches (strictly nested; default: the outer fold's)\n"
     "  --seed S                seed of the touch draws and the codebook (default 1)\n"
     "  --normalization l2|minmax|zscore   distance normalisation (default l2, the paper's)\n"
     "  --threads N             worker threads (default 0: all cores); results do not depend on it\n"
@@ -591,7 +593,7 @@ int run_evaluate(const Args& args) {
   for (const char* o : {"touches", "methods", "repeats", "weight-repeats", "seed", "normalization", "threads", "out",
                         "sim-seed"})
     value_options.insert(o);
-  const Options opt(args, value_options, {"export-ply", "zero-weights"});
+  const Options opt(args, value_options, {"export-ply", "zero-weights", "inner-codebooks"});
   opt.expect_positional(0, 1, "at most one dataset FILE.csv");
   RecognitionOptions ro;
   ro.parse(opt);
@@ -600,6 +602,7 @@ int run_evaluate(const Args& args) {
   s.repeats = static_cast<int>(opt.integer("repeats", 10, 1, 100000));
   s.weight_repeats = static_cast<int>(opt.integer("weight-repeats", 2, 1, 100000));
   s.zero_weights = opt.flag("zero-weights");
+  s.inner_codebooks = opt.flag("inner-codebooks");
   s.seed = static_cast<std::uint64_t>(opt.integer("seed", 1, 0));
   ro.codebook_seed = s.seed;
   s.normalization = parse_normalization(opt.choice("normalization", {"l2", "minmax", "zscore"}, "l2"));
@@ -686,7 +689,9 @@ int run_evaluate(const Args& args) {
       std::any_of(methods.begin(), methods.end(), [](const Method& m) { return !m.alternatives.empty(); });
   std::printf(any_alternatives ? "\nfusions chosen on the training folds (fold: fusion%s):\n"
                                : "\nfusion weights chosen on the training folds (fold: weights%s):\n",
-              s.zero_weights ? "; the grid allows 0" : "");
+              (std::string(s.zero_weights ? "; the grid allows 0" : "") +
+               (s.inner_codebooks ? "; every inner fold with a codebook of its own" : ""))
+                  .c_str());
   for (std::size_t i = 0; i < r.methods.size(); ++i) {
     const MethodResult& m = r.methods[i];
     if (!methods[i].chosen_in_training() || m.fold_expressions.empty()) continue;

@@ -92,6 +92,19 @@ run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods icp+bow --touches 5 --repe
 expect_match("${out}" "fusion weights chosen on the training folds \\(fold: weights; the grid allows 0\\)")
 # 1 + 11 grid rows, from 0*icp+1*bow.
 expect_file_lines(${WORK_DIR}/zero/sweeps.csv 12 "icp\\+bow,0\\*icp\\+1\\*bow,5,")
+# Strictly nested weights (--inner-codebooks): every inner fold fits its own
+# codebook, and the run says so; the fold's codebook and so the outer test of
+# a single classifier stay as they were.
+run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods bow,icp+bow --touches 5 --repeats 3 --weight-repeats 1 --seed 7
+    --out ${WORK_DIR}/outer)
+file(STRINGS ${WORK_DIR}/outer/results.csv outer_bow REGEX "^bow,")
+run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods bow,icp+bow --touches 5 --repeats 3 --weight-repeats 1 --seed 7
+    --inner-codebooks --out ${WORK_DIR}/nested)
+expect_match("${out}" "fusion weights chosen on the training folds \\(fold: weights; every inner fold with a codebook of its own\\)")
+file(STRINGS ${WORK_DIR}/nested/results.csv nested_bow REGEX "^bow,")
+if(NOT outer_bow OR NOT outer_bow STREQUAL nested_bow)
+  message(FATAL_ERROR "--inner-codebooks changed bow's outer rate: '${outer_bow}' against '${nested_bow}'")
+endif()
 # The height classifier (beyond the paper): heights and tilts of the touches,
 # alone and fused; its tilt scale is reported.
 run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods height,height+patch --touches 1,5 --repeats 3 --weight-repeats 1

@@ -3,7 +3,9 @@
 // synthetic touch data.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -543,4 +545,75 @@ TEST_CASE("weights chosen on inner folds need 3 explorations of every object, fi
   const TouchTable three_explorations = full.select(rows);
   CrossValidation<> three(three_explorations, test::paper_classifiers, codebook(4), {parse_method("icp+bow")}, s);
   CHECK(three.run().folds == 3);
+}
+
+namespace {
+/// A k-means codebook that records the features of every fit (copies share
+/// the record, as CrossValidation fits copies).
+struct RecordingQuantizer {
+  KMeansQuantizer<float> inner = codebook(4);
+  std::shared_ptr<std::vector<Eigen::MatrixXf>> fits = std::make_shared<std::vector<Eigen::MatrixXf>>();
+  void fit(const Eigen::MatrixXf& features) {
+    fits->push_back(features);
+    inner.fit(features);
+  }
+  template <typename Feature>
+  Index assign(const Feature& f) const {
+    return inner.assign(f);
+  }
+  Index size() const { return inner.size(); }
+};
+
+/// The features of the touches of `t` whose exploration is not in `out`, in
+/// table order.
+Eigen::MatrixXf features_without(const TouchTable& t, const std::vector<std::int64_t>& out) {
+  std::vector<Index> keep;
+  for (Index i = 0; i < t.size(); ++i)
+    if (std::find(out.begin(), out.end(), t.exploration[static_cast<std::size_t>(i)]) == out.end()) keep.push_back(i);
+  Eigen::MatrixXf f(t.touches.features.rows(), static_cast<Index>(keep.size()));
+  for (std::size_t j = 0; j < keep.size(); ++j) f.col(static_cast<Index>(j)) = t.touches.features.col(keep[j]);
+  return f;
+}
+
+bool same(const Eigen::MatrixXf& a, const Eigen::MatrixXf& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() && a == b;
+}
+}  // namespace
+
+TEST_CASE("inner_codebooks: every inner fold fits its codebook without its held-out exploration") {
+  const TouchTable t = synthetic_table(4);  // explorations 10..13
+  CrossValidationSettings s;
+  s.touches = {1, 3};
+  s.repeats = 3;
+  s.weight_repeats = 2;
+  s.seed = 5;
+  s.threads = 2;
+  const std::vector<Method> methods = {parse_method("bow"), parse_method("icp+bow")};
+  RecordingQuantizer plain_q, nested_q;
+  CrossValidation<RecordingQuantizer> plain(t, test::paper_classifiers, plain_q, methods, s);
+  const CrossValidationResult a = plain.run();
+  s.inner_codebooks = true;
+  CrossValidation<RecordingQuantizer> nested(t, test::paper_classifiers, nested_q, methods, s);
+  const CrossValidationResult b = nested.run();
+
+  // Without: one codebook per fold, fitted on its three training explorations.
+  REQUIRE(plain_q.fits->size() == 4);
+  for (std::int64_t f = 0; f < 4; ++f) CHECK(same((*plain_q.fits)[static_cast<std::size_t>(f)], features_without(t, {10 + f})));
+  // With: the fold's codebook, then one per inner fold, without the inner
+  // held-out exploration either.
+  REQUIRE(nested_q.fits->size() == 4 * (1 + 3));
+  std::size_t k = 0;
+  for (std::int64_t f = 0; f < 4; ++f) {
+    CHECK(same((*nested_q.fits)[k++], features_without(t, {10 + f})));
+    for (std::int64_t g = 0; g < 4; ++g)
+      if (g != f) CHECK(same((*nested_q.fits)[k++], features_without(t, {10 + f, 10 + g})));
+  }
+  // The outer test uses the fold's codebook either way: a method without
+  // fitted weights recognises exactly as before.
+  CHECK(a.vocabulary == b.vocabulary);
+  CHECK(a.methods[0].correct == b.methods[0].correct);
+  CHECK(a.methods[0].confusion == b.methods[0].confusion);
+  // The fitted method still has weights summing to 1 in every fold.
+  REQUIRE(b.methods[1].fold_weights.size() == 4);
+  for (const auto& w : b.methods[1].fold_weights) CHECK(w[0] + w[1] == doctest::Approx(1.0));
 }

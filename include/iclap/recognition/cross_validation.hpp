@@ -45,6 +45,14 @@ struct CrossValidationSettings {
   /// gives every classifier at least one step), so that a fitted fusion can
   /// drop a classifier that only hurts it; see weight_grid.
   bool zero_weights = false;
+  /// Give every inner fold a codebook of its own, fitted on that inner
+  /// fold's training touches only, so that the inner held-out exploration
+  /// takes no part in the words its tests are given: a strictly nested
+  /// cross validation, at one more codebook fit per inner fold. Off (the
+  /// default): the inner folds use their outer fold's codebook, which the
+  /// inner held-out exploration helped fit. The outer test is held out of
+  /// every codebook either way; only the choice of weights can differ.
+  bool inner_codebooks = false;
   /// Seed of every random draw (touch subsets; the codebook has its own).
   std::uint64_t seed = 1;
   Normalization normalization = Normalization::L2;
@@ -134,15 +142,16 @@ using ClassifierFactory = std::function<std::vector<std::unique_ptr<Classifier>>
 /// features), the references and the fusion weights come from the training
 /// explorations only:
 ///  - weights: each training exploration in turn is held out of the
-///    training set ("inner folds"); the grid weight vector with the highest
-///    rate over those inner tests wins (ties: larger mean margin between the
-///    true object's fused distance and the closest other one, then grid
-///    order). The chosen weights are reported per fold. A method with
-///    alternatives (Method::alternatives) has its candidate chosen the same
-///    way, on the same inner tests (ties: candidate order, then grid order);
-///    every classifier of every candidate is computed on the inner folds,
-///    and only the chosen ones on the outer test. Such a method has no
-///    weight sweep.
+///    training set ("inner folds", with the outer fold's codebook, or with
+///    one of their own under `inner_codebooks`); the grid weight vector
+///    with the highest rate over those inner tests wins (ties: larger mean
+///    margin between the true object's fused distance and the closest other
+///    one, then grid order). The chosen weights are reported per fold. A
+///    method with alternatives (Method::alternatives) has its candidate
+///    chosen the same way, on the same inner tests (ties: candidate order,
+///    then grid order); every classifier of every candidate is computed on
+///    the inner folds, and only the chosen ones on the outer test. Such a
+///    method has no weight sweep.
 ///  - tests: `repeats` random subsets of each number of touches from the
 ///    held-out exploration of every object, drawn with Rng::derive(seed,
 ///    fold/object stream, touches/repeat substream), so the draws do not
@@ -265,15 +274,9 @@ class CrossValidation {
       std::vector<Index> train;
       for (Index i = 0; i < table_.size(); ++i)
         if (exploration_rank(i) != f) train.push_back(i);
-      Eigen::MatrixXf train_features(table_.touches.features.rows(), static_cast<Index>(train.size()));
-      for (std::size_t j = 0; j < train.size(); ++j)
-        train_features.col(static_cast<Index>(j)) = table_.touches.features.col(train[j]);
-      Quantizer q = quantizer_;
-      q.fit(train_features);
-      const Index k = static_cast<Index>(q.size());
-      result.vocabulary.push_back(k);
       TouchSet all = table_.touches;
-      all.words = assign_words(q, table_.touches.features);
+      const Index k = fit_words(train, all.words);
+      result.vocabulary.push_back(k);
 
       // Fusion weights (and candidates) from inner folds of the training
       // explorations.
@@ -287,9 +290,17 @@ class CrossValidation {
           std::vector<Index> inner_train;
           for (Index i : train)
             if (exploration_rank(i) != g) inner_train.push_back(i);
-          Recognizer rec = fitted_recognizer(all, inner_train, k);
+          // The inner fold's own codebook (inner_codebooks), or the outer one.
+          TouchSet inner_words;
+          Index inner_k = k;
+          if (settings_.inner_codebooks) {
+            inner_words = table_.touches;
+            inner_k = fit_words(inner_train, inner_words.words);
+          }
+          const TouchSet& inner_all = settings_.inner_codebooks ? inner_words : all;
+          Recognizer rec = fitted_recognizer(inner_all, inner_train, inner_k);
           auto draws = make_draws(f, g, settings_.weight_repeats, result);
-          inner_tables.push_back(compute(rec, all, draws, fitted_classifiers_, counter));
+          inner_tables.push_back(compute(rec, inner_all, draws, fitted_classifiers_, counter));
           inner_draws.push_back(std::move(draws));
         }
         parallel_for(chosen.size(), [&](std::size_t mi, unsigned) {
@@ -411,6 +422,18 @@ class CrossValidation {
       }
     }
     return draws;
+  }
+
+  /// Fits a copy of the quantizer on the features of the touches `train`
+  /// and sets `words` to the word of every touch of the table; returns the
+  /// codebook size.
+  Index fit_words(const std::vector<Index>& train, WordIds& words) const {
+    Eigen::MatrixXf features(table_.touches.features.rows(), static_cast<Index>(train.size()));
+    for (std::size_t j = 0; j < train.size(); ++j) features.col(static_cast<Index>(j)) = table_.touches.features.col(train[j]);
+    Quantizer q = quantizer_;
+    q.fit(features);
+    words = assign_words(q, table_.touches.features);
+    return static_cast<Index>(q.size());
   }
 
   Recognizer fitted_recognizer(const TouchSet& all, const std::vector<Index>& train, Index k) const {
