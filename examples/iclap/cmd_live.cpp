@@ -113,6 +113,8 @@ const std::string kUsage = std::string(
     "  --fixed LIST        fixed touch counts to compare with (default 5,10,20 without\n"
     "                      the counts above --max-touches; --max-touches itself if all are)\n"
     "  --repeats N         random draws per case for the random-draw rates (default 10)\n"
+    "  --inner-codebooks   fit a codebook for every inner fold on its own training\n"
+    "                      touches (strictly nested weights; default: the fold's)\n"
     "  --traces FILE.csv   also write the state after every replayed touch: fold, object,\n"
     "                      exploration, touches, recognised, confidence, correct and the\n"
     "                      fused distance d_OBJECT of every object (to study other stop rules)\n"
@@ -235,6 +237,7 @@ int run_cross_validation(const Options& o, const Setup& setup, const std::string
   for (int n = 1; n <= max_touches; ++n) s.cross_validation.touches.push_back(n);
   s.cross_validation.repeats = static_cast<int>(o.integer("repeats", 10, 1, 100000));
   s.cross_validation.weight_sweeps = false;
+  s.cross_validation.inner_codebooks = o.flag("inner-codebooks");
 
   std::printf("iclap %s live --cross-validate\ndataset: %s: %zu objects, %zu frames, %ld touches (contact threshold %g)\n",
               ICLAP_VERSION_STRING, path.c_str(), table.objects.size(), dataset.frames.size(),
@@ -263,7 +266,8 @@ int run_cross_validation(const Options& o, const Setup& setup, const std::string
               "up to %ld touches each\n",
               r.folds, r.traces.size(), static_cast<long>(max_touches));
   if (setup.method.fit_weights) {
-    std::printf("fusion of each fold (weights chosen on its training explorations):");
+    std::printf("fusion of each fold (weights chosen on its training explorations%s):",
+                s.cross_validation.inner_codebooks ? ", every inner fold with a codebook of its own" : "");
     for (std::size_t f = 0; f < r.fold_expressions.size(); ++f) std::printf(" [%zu] %s", f, r.fold_expressions[f].c_str());
     std::printf("\n");
   }
@@ -472,6 +476,7 @@ int run_live(const Options& o, const Setup& setup, const std::string& path, cons
   const auto top = static_cast<std::size_t>(o.integer("top", 3, 0, 1000));
   for (const char* opt : {"fixed", "repeats", "traces"})
     if (o.has(opt)) throw UsageError(std::string("--") + opt + " needs --cross-validate");
+  if (o.flag("inner-codebooks")) throw UsageError("--inner-codebooks needs --cross-validate");
   std::optional<rig::Grid> grid_override;
   if (o.has("grid")) grid_override = rig::parse_grid(o.string("grid"), "--grid");
   LiveSource src = make_source(o);  // validates every source option (opens the port, no traffic yet)
@@ -671,7 +676,7 @@ int run_live_command(const Args& args) {
                         "seed", "weight-repeats", "threads", "port", "pose", "rate", "grid", "replay", "object",
                         "exploration", "simulate", "sim-seed", "unit", "fixed", "repeats", "traces"})
     value_options.insert(v);
-  const Options o(args, value_options, {"cross-validate", "real-time", "zero-weights"});
+  const Options o(args, value_options, {"cross-validate", "real-time", "zero-weights", "inner-codebooks"});
   o.expect_positional(0, 0, "no positional arguments (the references are --references FILE.csv)");
   if (!o.has("references")) throw UsageError("missing --references TRAIN.csv");
   Setup setup{RecognitionOptions{}, [&] {

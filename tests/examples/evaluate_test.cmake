@@ -105,6 +105,10 @@ file(STRINGS ${WORK_DIR}/nested/results.csv nested_bow REGEX "^bow,")
 if(NOT outer_bow OR NOT outer_bow STREQUAL nested_bow)
   message(FATAL_ERROR "--inner-codebooks changed bow's outer rate: '${outer_bow}' against '${nested_bow}'")
 endif()
+# The same for the weights of `iclap live --cross-validate`.
+run(${ICLAP} live --references ${WORK_DIR}/three.csv --cross-validate --method icp+bow --max-touches 2 --fixed 2
+    --repeats 1 --weight-repeats 1 --seed 7 --inner-codebooks)
+expect_match("${out}" "\nfusion of each fold \\(weights chosen on its training explorations, every inner fold with a codebook of its own\\): \\[0\\] ")
 # The height classifier (beyond the paper): heights and tilts of the touches,
 # alone and fused; its tilt scale is reported.
 run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods height,height+patch --touches 1,5 --repeats 3 --weight-repeats 1
