@@ -28,8 +28,7 @@ inline HeldOut hold_out_exploration_zero(const TouchTable& table, Index k) {
   std::vector<Index> train;
   for (Index i = 0; i < table.size(); ++i)
     if (table.exploration[static_cast<std::size_t>(i)] != 0) train.push_back(i);
-  Eigen::MatrixXf f(table.touches.features.rows(), static_cast<Index>(train.size()));
-  for (std::size_t j = 0; j < train.size(); ++j) f.col(static_cast<Index>(j)) = table.touches.features.col(train[j]);
+  const Eigen::MatrixXf f = table.touches.features(Eigen::all, train);
   KMeansQuantizer<float> q;
   q.settings.k = k;
   q.settings.seed = 1;

@@ -570,9 +570,7 @@ Eigen::MatrixXf features_without(const TouchTable& t, const std::vector<std::int
   std::vector<Index> keep;
   for (Index i = 0; i < t.size(); ++i)
     if (std::find(out.begin(), out.end(), t.exploration[static_cast<std::size_t>(i)]) == out.end()) keep.push_back(i);
-  Eigen::MatrixXf f(t.touches.features.rows(), static_cast<Index>(keep.size()));
-  for (std::size_t j = 0; j < keep.size(); ++j) f.col(static_cast<Index>(j)) = t.touches.features.col(keep[j]);
-  return f;
+  return t.touches.features(Eigen::all, keep);
 }
 
 bool same(const Eigen::MatrixXf& a, const Eigen::MatrixXf& b) {

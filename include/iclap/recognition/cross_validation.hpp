@@ -269,12 +269,18 @@ class CrossValidation {
     }
     ProgressCounter counter(progress, total_sets);
 
+    // The table with each fold's words, and with each inner fold's own
+    // words under inner_codebooks: copied once per run, and the words
+    // overwritten by every fold (the folds run one after another).
+    TouchSet all = table_.touches;
+    TouchSet inner_words;
+    if (settings_.inner_codebooks) inner_words = table_.touches;
+
     for (int f = 0; f < folds_; ++f) {
       // Codebook from the training touches only.
       std::vector<Index> train;
       for (Index i = 0; i < table_.size(); ++i)
         if (exploration_rank(i) != f) train.push_back(i);
-      TouchSet all = table_.touches;
       const Index k = fit_words(train, all.words);
       result.vocabulary.push_back(k);
 
@@ -291,12 +297,7 @@ class CrossValidation {
           for (Index i : train)
             if (exploration_rank(i) != g) inner_train.push_back(i);
           // The inner fold's own codebook (inner_codebooks), or the outer one.
-          TouchSet inner_words;
-          Index inner_k = k;
-          if (settings_.inner_codebooks) {
-            inner_words = table_.touches;
-            inner_k = fit_words(inner_train, inner_words.words);
-          }
+          const Index inner_k = settings_.inner_codebooks ? fit_words(inner_train, inner_words.words) : k;
           const TouchSet& inner_all = settings_.inner_codebooks ? inner_words : all;
           Recognizer rec = fitted_recognizer(inner_all, inner_train, inner_k);
           auto draws = make_draws(f, g, settings_.weight_repeats, result);
@@ -428,8 +429,7 @@ class CrossValidation {
   /// and sets `words` to the word of every touch of the table; returns the
   /// codebook size.
   Index fit_words(const std::vector<Index>& train, WordIds& words) const {
-    Eigen::MatrixXf features(table_.touches.features.rows(), static_cast<Index>(train.size()));
-    for (std::size_t j = 0; j < train.size(); ++j) features.col(static_cast<Index>(j)) = table_.touches.features.col(train[j]);
+    const Eigen::MatrixXf features = table_.touches.features(Eigen::all, train);
     Quantizer q = quantizer_;
     q.fit(features);
     words = assign_words(q, table_.touches.features);

@@ -382,20 +382,15 @@ class LiveReferences {
       std::iota(all.begin(), all.end(), Index{0});
       use = &all;
     }
-    Eigen::MatrixXf features(table.touches.features.rows(), static_cast<Index>(use->size()));
-    for (std::size_t j = 0; j < use->size(); ++j) {
-      const Index i = (*use)[j];
+    for (const Index i : *use)
       if (i < 0 || i >= table.size())
         throw InvalidArgument("train", "touch " + std::to_string(i) + " is outside [0, " + std::to_string(table.size()) + ")");
-      features.col(static_cast<Index>(j)) = table.touches.features.col(i);
-    }
-    quantizer_.fit(features);
-    const WordIds words = assign_words(quantizer_, features);
+    TouchSet train_set = select_touches(table.touches, *use);
+    quantizer_.fit(train_set.features);
+    train_set.words = assign_words(quantizer_, train_set.features);
     std::vector<std::vector<Index>> per_object(objects_.size());
     for (std::size_t j = 0; j < use->size(); ++j)
       per_object[static_cast<std::size_t>(table.object[static_cast<std::size_t>((*use)[j])])].push_back(static_cast<Index>(j));
-    TouchSet train_set = select_touches(table.touches, *use);
-    train_set.words = words;
     std::vector<TouchSet> references;
     for (std::size_t o = 0; o < objects_.size(); ++o) {
       if (per_object[o].empty())
