@@ -77,6 +77,7 @@ struct RecognitionOptions {
   double occupancy_free_radius = 2e-3;
   double occupancy_conflict = 0.3;
   double occupancy_unknown = 1;
+  double occupancy_back = 0;
   double placement_shift = 10e-3;
   double placement_yaw = 10.0 * 3.14159265358979323846 / 180;
   double placement_shift_step = 4e-3;
@@ -84,11 +85,11 @@ struct RecognitionOptions {
   /// Settings of the occupancy classifier for the training folds to choose
   /// among (beyond the paper), like --trim auto: every combination of the
   /// values that --occupancy-truncation, -free-radius, -conflict and
-  /// -unknown list (a comma-separated list of two or more makes a choice);
+  /// -unknown and -back list (a comma-separated list of two or more makes a choice);
   /// empty when each gives one value. The scalars above hold the first
   /// combination.
   struct OccupancyVariant {
-    double truncation, free_radius, conflict, unknown;
+    double truncation, free_radius, conflict, unknown, back;
   };
   std::vector<OccupancyVariant> occupancy_variants;
   /// The most combinations the lists may make. Every variant is a classifier
@@ -101,8 +102,9 @@ struct RecognitionOptions {
   static constexpr std::size_t kMaxOccupancyVariants = 256;
 
   /// "occupancy-t0_002-r0_002-c0_3-u1": truncation and free radius
-  /// (metres), conflict and unknown cost, each exactly (format_exact, so
-  /// two variants never share a name), '.' written as '_'.
+  /// (metres), conflict and unknown cost, and "-b0_006" for a slab behind
+  /// the pad (metres; none without it), each exactly (format_exact, so two
+  /// variants never share a name), '.' written as '_'.
   static std::string occupancy_variant_name(const OccupancyVariant& v) {
     auto num = [](double x) {
       std::string t = format_exact(x);
@@ -110,7 +112,7 @@ struct RecognitionOptions {
       return t;
     };
     return "occupancy-t" + num(v.truncation) + "-r" + num(v.free_radius) + "-c" + num(v.conflict) + "-u" +
-           num(v.unknown);
+           num(v.unknown) + (v.back > 0 ? "-b" + num(v.back) : "");
   }
   /// Are occupancy's settings chosen on the training folds?
   bool occupancy_is_auto() const { return occupancy_variants.size() > 1; }
@@ -229,6 +231,7 @@ struct RecognitionOptions {
     return {"descriptor", "transform", "scalar", "search", "k", "label-scale", "descriptor-scale",
             "tilt-scale", "contact-scale", "max-iterations", "relative-tolerance", "trim", "trim-choices", "contact-threshold", "patch-points",
             "patch-voxel", "occupancy-voxel", "occupancy-truncation", "occupancy-free-radius", "occupancy-conflict", "occupancy-unknown",
+            "occupancy-back",
             "placement-shift", "placement-yaw-deg", "placement-shift-step", "placement-yaw-step-deg"};
   }
   /// Usage lines of those options.
@@ -272,7 +275,10 @@ struct RecognitionOptions {
            "                          in [0, 1e6] (default 0.3; 0 ignores where the pad felt nothing)\n"
            "  --occupancy-unknown U   cost of a contact point where no training pad ever was, in\n"
            "                          units of the truncation squared, in [0, 1] (default 1: as a miss)\n"
-           "                          The four options above take lists (e.g. 0.002,0.003): every\n"
+           "  --occupancy-back M      the slab behind the pad, M metres deep, counts as free: the\n"
+           "                          pad's body was there (default 0: not used; at most 16 free\n"
+           "                          radii; 0.006 tried: see README)\n"
+           "                          The five options above take lists (e.g. 0.002,0.003): every\n"
            "                          combination is a variant, chosen on the training folds like\n"
            "                          the weights (evaluate only; at most 256 combinations)\n"
            "  --placement-shift M     occupancy searches the object's placement within M metres,\n"
@@ -377,6 +383,7 @@ struct RecognitionOptions {
     const auto free_radii = bounded_list(o, "occupancy-free-radius", occupancy_free_radius, 0, true, 1, "metres");
     const auto conflicts = bounded_list(o, "occupancy-conflict", occupancy_conflict, 0, false, 1e6);
     const auto unknowns = bounded_list(o, "occupancy-unknown", occupancy_unknown, 0, false, 1);
+    const auto backs = bounded_list(o, "occupancy-back", occupancy_back, 0, false, 1, "metres");
     placement_shift = bounded_option(o, "placement-shift", placement_shift, 0, false, 1, "metres");
     placement_shift_step = bounded_option(o, "placement-shift-step", placement_shift_step, 0, true, 1, "metres");
     if (o.has("placement-yaw-deg"))
@@ -384,24 +391,28 @@ struct RecognitionOptions {
     if (o.has("placement-yaw-step-deg"))
       placement_yaw_step = radians(bounded_option(o, "placement-yaw-step-deg", 0, 0, true, 180, "degrees"));
 
-    const std::size_t combinations = truncations.size() * free_radii.size() * conflicts.size() * unknowns.size();
+    const std::size_t combinations =
+        truncations.size() * free_radii.size() * conflicts.size() * unknowns.size() * backs.size();
     if (combinations > kMaxOccupancyVariants)
-      throw UsageError("--occupancy-truncation, -free-radius, -conflict and -unknown list " +
+      throw UsageError("--occupancy-truncation, -free-radius, -conflict, -unknown and -back list " +
                        std::to_string(truncations.size()) + " x " + std::to_string(free_radii.size()) + " x " +
-                       std::to_string(conflicts.size()) + " x " + std::to_string(unknowns.size()) + " = " +
+                       std::to_string(conflicts.size()) + " x " + std::to_string(unknowns.size()) + " x " +
+                       std::to_string(backs.size()) + " = " +
                        std::to_string(combinations) + " combinations; at most " +
                        std::to_string(kMaxOccupancyVariants) + " (each is a classifier of its own)");
     occupancy_variants.clear();
     for (double t : truncations)
       for (double r : free_radii)
         for (double c : conflicts)
-          for (double u : unknowns) occupancy_variants.push_back({t, r, c, u});
+          for (double u : unknowns)
+            for (double b : backs) occupancy_variants.push_back({t, r, c, u, b});
     for (const auto& v : occupancy_variants) check_occupancy(o, v);
     const OccupancyVariant& first = occupancy_variants.front();
     occupancy_truncation = first.truncation;
     occupancy_free_radius = first.free_radius;
     occupancy_conflict = first.conflict;
     occupancy_unknown = first.unknown;
+    occupancy_back = first.back;
     if (occupancy_variants.size() == 1) occupancy_variants.clear();
   }
 
@@ -442,6 +453,7 @@ struct RecognitionOptions {
       const std::string free_radius = given("occupancy-free-radius", v.free_radius);
       const std::string conflict = given("occupancy-conflict", v.conflict);
       const std::string unknown = given("occupancy-unknown", v.unknown);
+      const std::string back = given("occupancy-back", v.back);
       const std::string grid = given("placement-shift", placement_shift) + ", " +
                                given("placement-shift-step", placement_shift_step) + ", " +
                                given("placement-yaw-deg", degrees(placement_yaw)) + " and " +
@@ -452,11 +464,13 @@ struct RecognitionOptions {
       if (a == "free_radius") throw UsageError(free_radius + " with " + truncation + ": " + e.reason());
       if (a == "conflict_weight") throw UsageError(conflict + ": " + e.reason());
       if (a == "unknown_cost") throw UsageError(unknown + ": " + e.reason());
+      if (a == "back_depth") throw UsageError(back + " with " + free_radius + ": " + e.reason());
       if (a == "placements") throw UsageError(grid + ": " + e.reason());
       // A setting the bounds above already keep in range (e.g.
       // "placements.max_yaw", in radians): every option, and the library's
       // own words.
-      throw UsageError(voxel + ", " + truncation + ", " + free_radius + ", " + conflict + ", " + unknown + ", " + grid +
+      throw UsageError(voxel + ", " + truncation + ", " + free_radius + ", " + conflict + ", " + unknown + ", " + back +
+                       ", " + grid +
                        ": " + e.what());
     }
   }
@@ -469,6 +483,7 @@ struct RecognitionOptions {
     c.free_radius = variant ? variant->free_radius : occupancy_free_radius;
     c.conflict_weight = variant ? variant->conflict : occupancy_conflict;
     c.unknown_cost = variant ? variant->unknown : occupancy_unknown;
+    c.back_depth = variant ? variant->back : occupancy_back;
     c.placements.max_shift = placement_shift;
     c.placements.shift_step = placement_shift_step;
     c.placements.max_yaw = placement_yaw;
@@ -479,7 +494,8 @@ struct RecognitionOptions {
   /// truncation 0.003 m, free radius 0.002 m, conflict 0.3, unknown 1;
   /// placements within 0.01 m and 10 deg in steps of 0.004 m and 5 deg
   /// (105)", the last the number of placements searched; a setting chosen
-  /// on the training folds reads "truncation 0.002 or 0.003 m", and the
+  /// on the training folds reads "truncation 0.002 or 0.003 m", a slab
+  /// behind the pad adds ", back 0.006 m" (nothing without one), and the
   /// line ends with the number of variants. The options must be valid
   /// (parse checked them).
   std::string occupancy_summary() const {
@@ -498,6 +514,12 @@ struct RecognitionOptions {
                       values(occupancy_free_radius, &OccupancyVariant::free_radius) + " m, conflict " +
                       values(occupancy_conflict, &OccupancyVariant::conflict) + ", unknown " +
                       values(occupancy_unknown, &OccupancyVariant::unknown);
+    // The slab behind the pad, when one is used (the default line stays as
+    // it was before the option).
+    const bool any_back =
+        occupancy_back > 0 || std::any_of(occupancy_variants.begin(), occupancy_variants.end(),
+                                          [](const OccupancyVariant& v) { return v.back > 0; });
+    if (any_back) out += ", back " + values(occupancy_back, &OccupancyVariant::back) + " m";
     char buf[160];
     std::snprintf(buf, sizeof buf, "; placements within %g m and %g deg in steps of %g m and %g deg (%ld)",
                   placement_shift, degrees(placement_yaw), placement_shift_step, degrees(placement_yaw_step),

@@ -232,6 +232,87 @@ TEST_CASE("occupancy: where a pad felt nothing tells look-alikes apart that the 
   CHECK(d(0) == doctest::Approx(d(1)).epsilon(1e-9));
 }
 
+TEST_CASE("occupancy: the slab behind the pad (back_depth) contradicts a touch pressed above felt surface") {
+  // Two boxes of one footprint, 30 and 35 mm tall, their tops touched all
+  // over; one placement only, and the test pad's taxels right under the
+  // training pads' (the same lattice), so every charge can be counted.
+  const Box low{0.10, 0.06, 0.030}, high{0.10, 0.06, 0.035};
+  std::vector<Eigen::Vector2d> centres;
+  for (int a = -1; a <= 1; ++a)
+    for (int b = -1; b <= 1; ++b) centres.emplace_back(7 * a * kPitch, 3 * b * kPitch);
+  const std::vector<TouchSet> objects = {pad_touches(low, centres), pad_touches(high, centres)};
+  const TouchSet test = pad_touches(high, {{0.0, 0.0}});  // all 84 taxels pressed, on the tall top
+  REQUIRE(test.contact_points.cols() == 84);
+  auto classifier = [](double back) {
+    OccupancyClassifier c;
+    c.placements.max_shift = 0;
+    c.placements.max_yaw = 0;
+    c.back_depth = back;
+    return c;
+  };
+  OccupancyClassifier plain = classifier(0), backed = classifier(0.006);
+  CHECK(plain.back_layers().empty());
+  CHECK(backed.back_layers() == std::vector<double>{0.003, 0.006});
+  plain.fit(objects, 0);
+  backed.fit(objects, 0);
+  Eigen::VectorXd d0(2), d1(2);
+  plain.distances(test, d0);
+  backed.distances(test, d1);
+  // Against the low box each pressed taxel is 5 mm above felt surface (a
+  // miss, tau^2) and, with the slab, 1 mm under the 6 mm layer above it: a
+  // contradiction, gamma tau^2 more for each of the 84.
+  const double tau2 = plain.truncation * plain.truncation;
+  CHECK(d0(0) == doctest::Approx(84 * tau2).epsilon(1e-5));
+  CHECK(d1(0) - d0(0) == doctest::Approx(84 * plain.conflict_weight * tau2).epsilon(1e-5));
+  // Against its own box nothing changes: its slab starts 3 mm above the
+  // top, beyond the free radius, and so does the test pad's.
+  CHECK(d1(1) == d0(1));
+  // A test pressed on the low top: against the tall box, the test pad's own
+  // slab cuts through the tall top (its 6 mm layer 1 mm above it, its 3 mm
+  // layer 2 mm under it): a contradiction for each of the 84 taxels of one
+  // layer at least, of both at most.
+  const TouchSet low_test = pad_touches(low, {{0.0, 0.0}});
+  plain.distances(low_test, d0);
+  backed.distances(low_test, d1);
+  const double step = plain.conflict_weight * tau2;
+  CHECK(d1(1) - d0(1) >= 84 * step * (1 - 1e-5));
+  CHECK(d1(1) - d0(1) <= 168 * step * (1 + 1e-5));
+  CHECK(d1(0) == d0(0));
+  // The pool path sums the same costs, slab included.
+  const TouchSet pool = pad_touches(high, {{0.0, 0.0}, {0.01, 0.0}, {-0.01, 0.01}});
+  const auto prepared = backed.prepare_pool(pool);
+  Eigen::VectorXd whole(2), part(2);
+  backed.pool_distances(pool, prepared.get(), {2, 0}, part);
+  backed.distances(select_touches(pool, std::vector<Index>{2, 0}), whole);
+  CHECK(part == whole);
+
+  // The layers: m = ceil(b / (1.5 rho)) of them, evenly down to b.
+  OccupancyClassifier c;
+  c.back_depth = 0.001;
+  CHECK(c.back_layers() == std::vector<double>{0.001});
+  c.back_depth = 0.0031;
+  CHECK(c.back_layers() == std::vector<double>{0.00155, 0.0031});
+  c.back_depth = 16 * c.free_radius;
+  CHECK(c.back_layers().size() == 11);
+  // Refused: negative, not a number, deeper than 16 free radii.
+  for (const double bad : {-1e-3, std::numeric_limits<double>::quiet_NaN(), 16.5 * c.free_radius}) {
+    c.back_depth = bad;
+    CHECK(error_of([&] { c.validate(); }).find("back_depth: must be >= 0 and at most 16 free radii (0.032 m)") == 0);
+  }
+  // The slab needs the pad normals, of the training touches and of a test.
+  std::vector<TouchSet> bare = objects;
+  bare[1].normals.resize(3, 0);
+  backed = classifier(0.006);
+  CHECK(error_of([&] { backed.fit(bare, 0); }).find("objects[1].normals") == 0);
+  plain.fit(bare, 0);  // without the slab they are not read
+  backed.fit(objects, 0);
+  TouchSet no_normals = test;
+  no_normals.normals.resize(3, 0);
+  CHECK(error_of([&] { backed.distances(no_normals, d1); }).find("test.normals") == 0);
+  CHECK(error_of([&] { backed.prepare_pool(no_normals); }).find("pool.normals") == 0);
+  plain.distances(no_normals, d0);
+}
+
 TEST_CASE("occupancy: a test re-placed within the placement bounds is found, beyond them it is not") {
   OccupancyClassifier c;
   c.fit(training(), 0);

@@ -118,6 +118,16 @@ struct OccupancyEvidence {
 /// (the fields interpolated trilinearly, except in the free points' test,
 /// which reads the nearest lattice node)
 /// and the distance of a test to the object is E = min_g sum_i c_i(g).
+/// With `back_depth` b > 0, the slab behind each pad, up to b from its
+/// surface, counts as free as well: the pad's body was there, so the object
+/// was not (beyond the paper). Every taxel of a touch, pressed or not, is
+/// moved back along the pad normal n (TouchSet::normals) to layers at
+/// depths b k / m, k = 1..m, m = ceil(b / (1.5 rho)) (so the free radius
+/// covers the slab without gaps): for the training touches these points
+/// join the free evidence, and for a test touch they are tested like its
+/// free points (the last sum above). A test touch pressed above a surface
+/// that a training pad felt from above, or a test pad whose back would cut
+/// through felt surface, then pays a contradiction.
 /// The first term is the paper's point-to-point error (Section IV, E_ICP)
 /// with every pressed taxel as a point, truncated so that a touch on
 /// surface the references never saw costs tau^2 whatever the object; the
@@ -156,6 +166,10 @@ class OccupancyClassifier final : public Classifier {
   /// differently; less charges surface the training never explored less
   /// than surface it explored and found elsewhere.
   double unknown_cost = 1;
+  /// b: the depth of the slab behind the pad that counts as free, metres;
+  /// 0 (the default): none. At most kMaxBackRadii free radii (so at most
+  /// 11 layers). Needs the pad normals of the touches (TouchSet::normals).
+  double back_depth = 0;
   /// The placements searched.
   PlanarPlacements placements;
   /// The name in a Recognizer; empty (the default): "occupancy".
@@ -175,23 +189,48 @@ class OccupancyClassifier final : public Classifier {
     check_non_negative(conflict_weight, "conflict_weight");
     if (!(unknown_cost >= 0 && unknown_cost <= 1))
       throw InvalidArgument("unknown_cost", "must be in [0, 1], got " + format_value(unknown_cost));
+    if (!(back_depth >= 0 && back_depth <= kMaxBackRadii * free_radius))
+      throw InvalidArgument("back_depth", "must be >= 0 and at most " + std::to_string(kMaxBackRadii) +
+                                              " free radii (" + format_value(kMaxBackRadii * free_radius) +
+                                              " m), got " + format_value(back_depth));
     placements.validate("placements");
   }
 
+  /// The deepest slab behind the pad (back_depth), in free radii.
+  static constexpr int kMaxBackRadii = 16;
+
+  /// The depths behind the pad at which the taxels are moved (back_depth):
+  /// b k / m for k = 1..m, m = ceil(b / (1.5 free_radius)); empty for b = 0.
+  /// Validates the settings first.
+  std::vector<double> back_layers() const {
+    validate();
+    return layers_of(back_depth, free_radius);
+  }
+
   /// The references from training touches: object j's contact points are
-  /// its occupied evidence and its free points its free evidence (turning
-  /// about the centroid of the contact points). Throws
+  /// its occupied evidence and its free points its free evidence, with the
+  /// slab behind its pads under back_depth (turning about the centroid of
+  /// the contact points). Throws
   /// EmptyInput naming "objects" for none, "objects[j].contact_points" /
   /// "objects[j].free_points" for an object without them (touches without
-  /// the pad orientation), and what fit_evidence throws.
+  /// the pad orientation), "objects[j].normals" under back_depth for an
+  /// object without pad normals, and what fit_evidence throws.
   void fit(const std::vector<TouchSet>& objects, Index /*vocabulary*/) override {
+    validate();
+    const std::vector<double> layers = layers_of(back_depth, free_radius);
     std::vector<OccupancyEvidence> evidence(objects.size());
     for (std::size_t j = 0; j < objects.size(); ++j) {
       const std::string arg = "objects[" + std::to_string(j) + "]";
       objects[j].validate(arg);
-      require_taxels(objects[j], arg);
+      require_taxels(objects[j], arg, !layers.empty());
       evidence[j].occupied = objects[j].contact_points;
-      evidence[j].free = objects[j].free_points;
+      const TouchSet& t = objects[j];
+      evidence[j].free.resize(3, t.free_points.cols() + static_cast<Index>(layers.size()) *
+                                                            (t.free_points.cols() + t.contact_points.cols()));
+      evidence[j].free.leftCols(t.free_points.cols()) = t.free_points;
+      Index k = t.free_points.cols();
+      for (Index i = 0; i < t.size(); ++i)
+        for_back_points(t, i, layers, [&](const Eigen::Vector3d& q) { evidence[j].free.col(k++) = q; });
     }
     fit_evidence(evidence);
   }
@@ -222,7 +261,7 @@ class OccupancyClassifier final : public Classifier {
       refs.push_back(std::move(r));
     }
     grid_ = placements.grid("placements");
-    fitted_ = Fitted{truncation, free_radius, conflict_weight, unknown_cost};
+    fitted_ = Fitted{truncation, free_radius, conflict_weight, unknown_cost, layers_of(back_depth, free_radius)};
     references_ = std::move(refs);
     fit_id_ = detail::next_fit_id();
   }
@@ -234,12 +273,14 @@ class OccupancyClassifier final : public Classifier {
 
   /// Uses the settings of the last fit, whatever they are now. Throws
   /// InvalidArgument naming "distances" before a fit, EmptyInput naming
-  /// "test.contact_points" / "test.free_points" for touches without them.
+  /// "test.contact_points" / "test.free_points" for touches without them,
+  /// and "test.normals" for touches without pad normals when the fit had a
+  /// back_depth.
   void distances(const TouchSet& test, Eigen::Ref<Eigen::VectorXd> out) const override {
     check_fitted("distances");
     check_dimension(out.size(), objects(), "out");
     test.validate("test");
-    require_taxels(test, "test");
+    require_taxels(test, "test", !fitted_.back_layers.empty());
     std::vector<Index> all(static_cast<std::size_t>(test.size()));
     for (Index i = 0; i < test.size(); ++i) all[static_cast<std::size_t>(i)] = i;
     std::vector<double> costs;
@@ -251,11 +292,11 @@ class OccupancyClassifier final : public Classifier {
 
   /// The cost c_i(g) of every touch of `pool` under every placement, for
   /// every object: what every test drawn from the pool sums. Throws like
-  /// distances (naming "pool").
+  /// distances (naming "pool"; "pool.normals" as below).
   std::shared_ptr<const PreparedPool> prepare_pool(const TouchSet& pool) const override {
     check_fitted("prepare_pool");
     pool.validate("pool");
-    require_taxels(pool, "pool");
+    require_taxels(pool, "pool", !fitted_.back_layers.empty());
     auto prepared = std::make_shared<Costs>(fit_id_, pool);
     prepared->costs.resize(references_.size());
     for (Index j = 0; j < objects(); ++j) touch_costs(pool, j, prepared->costs[static_cast<std::size_t>(j)]);
@@ -291,6 +332,7 @@ class OccupancyClassifier final : public Classifier {
   };
   struct Fitted {
     double truncation = 0, free_radius = 0, conflict_weight = 0, unknown_cost = 1;
+    std::vector<double> back_layers;
   };
   struct Costs final : PreparedPool {
     Costs(std::uint64_t fit_id, const TouchSet& pool) : PreparedPool(fit_id, pool) {}
@@ -301,7 +343,30 @@ class OccupancyClassifier final : public Classifier {
     if (references_.empty()) throw InvalidArgument(what, "called before fit");
   }
 
-  void require_taxels(const TouchSet& s, const std::string& argument) const {
+  /// back_layers() of valid settings.
+  static std::vector<double> layers_of(double depth, double free_radius) {
+    std::vector<double> out;
+    if (!(depth > 0)) return out;
+    const int m = static_cast<int>(std::ceil(depth / (1.5 * free_radius) - 1e-9));
+    for (int k = 1; k <= m; ++k) out.push_back(depth * k / m);
+    return out;
+  }
+
+  /// Calls f(p - d n) for every taxel p of touch i of `s` (its contact
+  /// points, then its free points) and every depth d of `layers`, n the
+  /// touch's pad normal: the slab behind its pad.
+  template <typename F>
+  static void for_back_points(const TouchSet& s, Index i, const std::vector<double>& layers, F&& f) {
+    if (layers.empty()) return;
+    const Eigen::Vector3d n = s.normals.col(i);
+    const auto u = static_cast<std::size_t>(i);
+    for (const double d : layers) {
+      for (Index k = s.contact_offsets[u]; k < s.contact_offsets[u + 1]; ++k) f(s.contact_points.col(k) - d * n);
+      for (Index k = s.free_offsets[u]; k < s.free_offsets[u + 1]; ++k) f(s.free_points.col(k) - d * n);
+    }
+  }
+
+  void require_taxels(const TouchSet& s, const std::string& argument, bool normals = false) const {
     if (!s.has_contacts())
       throw EmptyInput(argument + ".contact_points", "the " + name() +
                                                           " classifier needs the pressed taxels of every touch, placed "
@@ -310,6 +375,10 @@ class OccupancyClassifier final : public Classifier {
       throw EmptyInput(argument + ".free_points", "the " + name() +
                                                        " classifier needs the taxels that were not pressed, placed by "
                                                        "the pad orientation (dataset columns qw, qx, qy, qz)");
+    if (normals && !s.has_normals())
+      throw EmptyInput(argument + ".normals", "the " + name() +
+                                                  " classifier with a back_depth needs the pad normal of every touch "
+                                                  "(dataset columns qw, qx, qy, qz)");
   }
 
   /// costs[g * n + i] = c_i(g) for every touch i of `s` against object j.
@@ -357,11 +426,13 @@ class OccupancyClassifier final : public Classifier {
           // instead of eight): 1.8x faster distances, and no change of the
           // recognition rates beyond their noise (README).
           const Index f0 = s.free_offsets[static_cast<std::size_t>(i)], f1 = s.free_offsets[static_cast<std::size_t>(i) + 1];
-          for (Index k = f0; k < f1; ++k) {
-            const Eigen::Vector3d q = place(s.free_points.col(k));
+          auto free_point = [&](const Eigen::Vector3d& p) {
+            const Eigen::Vector3d q = place(p);
             const float dn = r.occupied.node_squared_distance(q);
             if (dn < rho2 && dn < r.free.node_squared_distance(q)) c += penalty;
-          }
+          };
+          for (Index k = f0; k < f1; ++k) free_point(s.free_points.col(k));
+          for_back_points(s, i, fitted_.back_layers, free_point);
         }
         costs[static_cast<std::size_t>(g * n + i)] = c;
       }
