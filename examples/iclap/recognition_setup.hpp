@@ -84,9 +84,9 @@ struct RecognitionOptions {
   double placement_yaw_step = 5.0 * 3.14159265358979323846 / 180;
   /// Settings of the occupancy classifier for the training folds to choose
   /// among (beyond the paper), like --trim auto: every combination of the
-  /// values that --occupancy-truncation, -free-radius, -conflict and
-  /// -unknown and -back list (a comma-separated list of two or more makes a choice);
-  /// empty when each gives one value. The scalars above hold the first
+  /// values that --occupancy-truncation, -free-radius, -conflict, -unknown
+  /// and -back list (a comma-separated list of two or more makes a
+  /// choice); empty when each gives one value. The scalars above hold the first
   /// combination.
   struct OccupancyVariant {
     double truncation, free_radius, conflict, unknown, back;
@@ -397,8 +397,7 @@ struct RecognitionOptions {
       throw UsageError("--occupancy-truncation, -free-radius, -conflict, -unknown and -back list " +
                        std::to_string(truncations.size()) + " x " + std::to_string(free_radii.size()) + " x " +
                        std::to_string(conflicts.size()) + " x " + std::to_string(unknowns.size()) + " x " +
-                       std::to_string(backs.size()) + " = " +
-                       std::to_string(combinations) + " combinations; at most " +
+                       std::to_string(backs.size()) + " = " + std::to_string(combinations) + " combinations; at most " +
                        std::to_string(kMaxOccupancyVariants) + " (each is a classifier of its own)");
     occupancy_variants.clear();
     for (double t : truncations)
@@ -470,8 +469,7 @@ struct RecognitionOptions {
       // "placements.max_yaw", in radians): every option, and the library's
       // own words.
       throw UsageError(voxel + ", " + truncation + ", " + free_radius + ", " + conflict + ", " + unknown + ", " + back +
-                       ", " + grid +
-                       ": " + e.what());
+                       ", " + grid + ": " + e.what());
     }
   }
 
