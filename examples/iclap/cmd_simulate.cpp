@@ -22,7 +22,8 @@ namespace {
 
 int run_simulate(const iclap::cli::Args& args) {
   using namespace iclap::cli;
-  const Options opt(args, {"objects", "unit", "explorations", "seed", "out", "threads", "shift-mm", "yaw-deg", "frames"});
+  const Options opt(args, {"objects", "unit", "explorations", "seed", "out", "threads", "shift-mm", "yaw-deg", "frames",
+                                "sweep-min-mm", "sweep-max-mm", "turn-probability", "start-candidates"});
   opt.expect_positional(0, 0, "no positional arguments");
   const std::string objects_arg = opt.string("objects", "builtin");
   const std::string unit = opt.choice("unit", {"auto", "m", "mm"}, "auto");
@@ -36,6 +37,15 @@ int run_simulate(const iclap::cli::Args& args) {
   settings.exploration.placement_shift = opt.number("shift-mm", 10.0, 0.0, 1000.0) * 1e-3;
   settings.exploration.placement_yaw = opt.number("yaw-deg", 10.0, 0.0, 180.0) * 3.14159265358979323846 / 180.0;
   settings.exploration.max_frames_mean = opt.number("frames", 85.0, 1.0, 1e6);
+  // The operator's sweeps (ExplorationSettings); defaults as in the library.
+  settings.exploration.sweep_length_min = opt.number("sweep-min-mm", 30.0, 0.1, 1000.0) * 1e-3;
+  settings.exploration.sweep_length_max = opt.number("sweep-max-mm", 80.0, 0.1, 1000.0) * 1e-3;
+  if (settings.exploration.sweep_length_max < settings.exploration.sweep_length_min)
+    throw UsageError("--sweep-max-mm must be >= --sweep-min-mm, got " + opt.string("sweep-max-mm", "80") + " < " +
+                     opt.string("sweep-min-mm", "30"));
+  settings.exploration.turn_probability = opt.number("turn-probability", 0.75, 0.0, 1.0);
+  settings.exploration.start_candidates = static_cast<int>(
+      opt.integer("start-candidates", 1, 1, iclap::ExplorationSettings::kMaxStartCandidates));
   const long long seed = opt.integer("seed", 1, 0);
 
   std::vector<iclap::SimObject> objects;
@@ -70,7 +80,9 @@ int run_simulate(const iclap::cli::Args& args) {
 ICLAP_COMMAND("simulate", "write a simulated dataset of the WTS/Omni rig (built-in objects or meshes)",
               "usage: iclap simulate [--objects builtin|DIR] [--unit auto|m|mm] [--explorations N]\n"
               "                      [--seed S] [--out FILE] [--threads T]\n"
-              "                      [--shift-mm D] [--yaw-deg A] [--frames F]\n\n"
+              "                      [--shift-mm D] [--yaw-deg A] [--frames F]\n"
+              "                      [--sweep-min-mm L] [--sweep-max-mm L] [--turn-probability P]\n"
+              "                      [--start-candidates K]\n\n"
               "Simulates the paper's data collection (uninformed sweeps at 5 mm/s, 5 frames/s,\n"
               "the pad kept normal to the surface) and writes the dataset CSV the rig recorder\n"
               "would write (README, \"Dataset format\").\n\n"
@@ -87,5 +99,14 @@ ICLAP_COMMAND("simulate", "write a simulated dataset of the WTS/Omni rig (built-
               "  --threads T        worker threads, 0 = all (default 0); the output does not depend on it\n"
               "  --shift-mm D       object re-placed before each exploration within D mm (default 10)\n"
               "  --yaw-deg A        ... and turned by up to +-A degrees (default 10)\n"
-              "  --frames F         mean frames per exploration (default 85, the paper's 8492/100)",
+              "  --frames F         mean frames per exploration (default 85, the paper's 8492/100)\n"
+              "  --sweep-min-mm L   each sweep's planned length is uniform in [min, max] mm\n"
+              "  --sweep-max-mm L   (defaults 30 and 80, each in [0.1, 1000])\n"
+              "  --turn-probability P  at the end of a sweep the operator turns and slides on with\n"
+              "                     probability P, else lifts the pad and starts anew at a random\n"
+              "                     point of the object (default 0.75, in [0, 1])\n"
+              "  --start-candidates K  1 (default): each new start point drawn by area over the\n"
+              "                     object (uninformed); K in [2, 64]: the operator covers the\n"
+              "                     object, taking of K draws the one farthest from where the pad\n"
+              "                     has been in this exploration",
               run_simulate);

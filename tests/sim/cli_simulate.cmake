@@ -36,6 +36,19 @@ if(ha STREQUAL hc)
   message(FATAL_ERROR "different seeds, same bytes")
 endif()
 
+# The operator's options take effect: short sweeps, a lift after each, the
+# covering start points; the same options give the same bytes.
+set(_operator --explorations 1 --seed 7 --sweep-min-mm 10 --sweep-max-mm 20 --turn-probability 0 --start-candidates 8)
+run("${ICLAP}" simulate ${_operator} --out "${WORK}/d.csv")
+run("${ICLAP}" simulate ${_operator} --threads 1 --out "${WORK}/e.csv")
+file(SHA256 "${WORK}/d.csv" hd)
+file(SHA256 "${WORK}/e.csv" he)
+if(ha STREQUAL hd OR NOT hd STREQUAL he)
+  message(FATAL_ERROR "the operator options changed nothing, or the same options gave different bytes")
+endif()
+run("${ICLAP}" info "${WORK}/d.csv" --overlap 5)
+expect_match("${out}" "overlap: +0 of [0-9]+ contact frames \\(0.0%\\) within 5 mm")  # one exploration each
+
 # A folder of meshes with a meshes.json (automatic units), to stdout.
 run("${ICLAP}" simulate --objects "${MESHES}" --explorations 2 --frames 20)
 file(WRITE "${WORK}/m.csv" "${out}")
@@ -52,4 +65,13 @@ run_expect(2 "${ICLAP}" simulate --objects "${WORK}/no_such_dir")
 expect_match("${err}" "no_such_dir: is not a directory")
 run_expect(2 "${ICLAP}" simulate --explorations 0)
 expect_match("${err}" "--explorations: 0 is outside")
+run_expect(2 "${ICLAP}" simulate --sweep-min-mm 30 --sweep-max-mm 20 --out "${WORK}/x.csv")
+expect_match("${err}" "--sweep-max-mm must be >= --sweep-min-mm, got 20 < 30")
+run_expect(2 "${ICLAP}" simulate --start-candidates 65 --out "${WORK}/x.csv")
+expect_match("${err}" "--start-candidates: 65 is outside")
+run_expect(2 "${ICLAP}" simulate --turn-probability 1.5 --out "${WORK}/x.csv")
+expect_match("${err}" "--turn-probability: 1.5 is out of range")
+if(EXISTS "${WORK}/x.csv")
+  message(FATAL_ERROR "a refused run left its output file")
+endif()
 file(REMOVE_RECURSE "${WORK}")

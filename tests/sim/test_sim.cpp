@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -295,6 +296,54 @@ TEST_CASE("simulator: the object is re-placed between explorations (configurable
   CHECK(max_dxy < 0.04);  // by a small amount
 }
 
+TEST_CASE("exploration: the covering operator spreads its touches over the object") {
+  // Short sweeps and a lift after each: where the pad starts anew is what
+  // differs. Same seeds, 1 (uninformed) or 16 start candidates; the spread
+  // is the mean distance from each contact to the nearest contact of an
+  // earlier sweep of the same exploration (pad centres, object frame).
+  iclap::SimulationSettings s;
+  s.arm.position_noise = 0;
+  s.exploration.placement_shift = 0;
+  s.exploration.placement_yaw = 0;
+  s.exploration.sweep_length_min = 0.01;
+  s.exploration.sweep_length_max = 0.02;
+  s.exploration.turn_probability = 0;
+  const auto spread = [&](const iclap::SimObject& obj, int candidates) {
+    s.exploration.start_candidates = candidates;
+    double sum = 0;
+    std::size_t n = 0;
+    for (int e = 0; e < 20; ++e) {
+      std::vector<Eigen::Vector3d> earlier, current;
+      bool in_contact = false;
+      for (const auto& f : iclap::simulate_exploration(obj, s, 11, e)) {
+        const bool c = iclap::is_contact(f);
+        if (!c && in_contact) {  // a sweep ended
+          earlier.insert(earlier.end(), current.begin(), current.end());
+          current.clear();
+        }
+        in_contact = c;
+        if (!c) continue;
+        if (current.empty() && !earlier.empty()) {  // the first touch of a new sweep
+          double d2 = std::numeric_limits<double>::infinity();
+          for (const auto& q : earlier) d2 = std::min(d2, (q - f.position).squaredNorm());
+          sum += std::sqrt(d2);
+          ++n;
+        }
+        current.push_back(f.position);
+      }
+    }
+    REQUIRE(n > 30);
+    return sum / static_cast<double>(n);
+  };
+  for (const char* name : {"hammer", "wooden_cuboid_3", "fixed_wrench_2"}) {
+    CAPTURE(name);
+    const auto obj = iclap::builtin_object(name);
+    const double uninformed = spread(obj, 1), covering = spread(obj, 16);
+    MESSAGE(std::string(name) << ": uninformed " << uninformed << " m, covering " << covering << " m");
+    CHECK(covering > 1.3 * uninformed);
+  }
+}
+
 TEST_CASE("mesh objects: folder with meshes.json, explicit units, errors") {
   const std::string dir = std::string(ICLAP_TEST_FIXTURES) + "/mesh/objects";
   const auto objects = iclap::load_mesh_objects(dir);
@@ -376,6 +425,9 @@ TEST_CASE("settings: non-finite and oversized values are refused, naming the set
       {"exploration.sweep_length_max", "inf",
        [](iclap::SimulationSettings& s) { s.exploration.sweep_length_max = inf; }},
       {"exploration.force_max", "inf", [](iclap::SimulationSettings& s) { s.exploration.force_max = inf; }},
+      {"exploration.start_candidates", "got 0", [](iclap::SimulationSettings& s) { s.exploration.start_candidates = 0; }},
+      {"exploration.start_candidates", "got 65",
+       [](iclap::SimulationSettings& s) { s.exploration.start_candidates = 65; }},
   };
   const iclap::SimObject object = iclap::builtin_object(iclap::builtin_object_names().front());
   for (const Bad& b : cases) {
@@ -397,6 +449,7 @@ TEST_CASE("settings: non-finite and oversized values are refused, naming the set
   iclap::SimulationSettings s;
   s.exploration.max_frames_mean = 1e6;
   s.sensor.spread_sigma = 0.999e4 * s.sensor.pitch / s.sensor.samples_per_taxel;
+  s.exploration.start_candidates = iclap::ExplorationSettings::kMaxStartCandidates;
   CHECK_NOTHROW(s.validate());
 }
 

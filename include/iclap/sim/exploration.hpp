@@ -58,6 +58,13 @@ struct ExplorationSettings {
   /// goes on sliding with this probability, or else lifts the pad and moves
   /// to a new random start point.
   double turn_probability = 0.75;
+  /// How the operator chooses each new start point. With 1 (default) it is
+  /// drawn by area over the reachable surface: the paper's uninformed
+  /// strategy. With K > 1 the operator covers the object ("in this manner,
+  /// the object surface was covered", the paper's Section V): of K such
+  /// draws it takes the one farthest from every place the pad has touched
+  /// in this exploration (best-candidate sampling). In [1, kMaxStartCandidates].
+  int start_candidates = 1;
   double clearance = 3e-3;           ///< hover distance before a touch and after a lift, m
   double sweep_length_min = 30e-3;   ///< each sweep's planned length is uniform in [min, max], m
   double sweep_length_max = 80e-3;
@@ -83,6 +90,8 @@ struct ExplorationSettings {
   /// Largest max_frames_mean (the frame count is cast to an integer; the
   /// `iclap simulate --frames` option has the same bound).
   static constexpr double kMaxFramesMean = 1e6;
+  /// Largest start_candidates.
+  static constexpr int kMaxStartCandidates = 64;
 
   /// Throws InvalidArgument naming the first setting out of range; every
   /// setting must be finite.
@@ -95,6 +104,9 @@ struct ExplorationSettings {
     check_positive(air_speed, "exploration.air_speed");
     if (!(turn_probability >= 0 && turn_probability <= 1))
       throw InvalidArgument("exploration.turn_probability", "must be in [0, 1], got " + format_value(turn_probability));
+    if (!(start_candidates >= 1 && start_candidates <= kMaxStartCandidates))
+      throw InvalidArgument("exploration.start_candidates", "must be in [1, " + std::to_string(kMaxStartCandidates) +
+                                                                "], got " + std::to_string(start_candidates));
     check_positive(clearance, "exploration.clearance");
     check_positive(sweep_length_min, "exploration.sweep_length_min");
     check_positive(sweep_length_max, "exploration.sweep_length_max");
@@ -182,6 +194,7 @@ class Explorer {
 
     std::vector<Frame> out;
     out.reserve(frames);
+    touched_.clear();
     plan_sweep();
     pose_ = hover_pose();
     // Start out of contact: rise until nothing touches.
@@ -264,10 +277,15 @@ class Explorer {
   // along the surface normal, fits (it touches that point first, nothing
   // else of the object is in its way back along the normal) and stays above
   // the table; a random pad yaw (or the long side level, on steep faces), a
-  // random direction, length and force.
+  // random direction, length and force. With start_candidates K > 1, the
+  // first K such starts found compete and the one farthest from the
+  // touched places of this exploration wins (the covering operator).
   void plan_sweep() {
     const TactileSensorSettings& s = sensor_.settings();
-    for (int attempt = 0; attempt < 200 && !cdf_.empty(); ++attempt) {
+    const int wanted = ex_.start_candidates;
+    int found = 0;
+    double best = -1;
+    for (int attempt = 0; attempt < 200 && !cdf_.empty() && found < wanted; ++attempt) {
       const double u = rng_.uniform(0, cdf_.back());
       const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
       const Index t = tris_[static_cast<std::size_t>(
@@ -309,13 +327,17 @@ class Explorer {
         sensor_.probe(obj_.shape, pose, contact_, retreat_distance(pose) + ex_.clearance, 0.001, inf);
         if (!contact_.any_surface() || contact_.max_depth > 0.5e-3) continue;
       }
+      ++found;
+      const double gap = distance_to_touched(p);
+      if (found > 1 && !(gap > best)) continue;
+      best = gap;
       arrive_vertically_ = vertical;
       start_ = pose;
       direction_ = dir;
       sweep_length_ = length;
       force_ = force;
-      return;
     }
+    if (found > 0) return;
     // Fallback: straight down onto the highest point.
     const TriangleMesh& m = obj_.shape.mesh();
     Index top = 0;
@@ -326,6 +348,15 @@ class Explorer {
     direction_ = Eigen::Vector3d::UnitX();
     sweep_length_ = ex_.sweep_length_min;
     force_ = ex_.force_min;
+  }
+
+  // Distance from `p` (object frame) to the nearest pad centre of a touch
+  // so far in this exploration; infinite before the first touch. Only the
+  // covering operator (start_candidates > 1) keeps those centres.
+  double distance_to_touched(const Eigen::Vector3d& p) const {
+    double d2 = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& q : touched_) d2 = std::min(d2, (q - p).squaredNorm());
+    return std::sqrt(d2);
   }
 
   // At the end of a sweep (planned length reached, or blocked by a part too
@@ -468,6 +499,7 @@ class Explorer {
           return;
         }
         pose_ = pressed;
+        if (ex_.start_candidates > 1) touched_.push_back(pose_.centre);
         reading_ = sensor_.render(contact_, shift, &rng_);
         last_normal_ = sensor_.contact_normal(contact_, shift);
         if (travelled_ >= sweep_length_) end_sweep();
@@ -551,6 +583,7 @@ class Explorer {
   Eigen::Quaterniond q_from_, q_to_;
   PadContact contact_;
   Eigen::MatrixXd reading_;
+  std::vector<Eigen::Vector3d> touched_;  // pad centres of the sweep frames (covering operator only)
 };
 
 }  // namespace detail

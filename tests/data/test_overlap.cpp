@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: MIT
+// exploration_overlap: which contacts of an exploration lie near another
+// exploration of the same object (exact counts on hand-placed frames).
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "iclap/data/overlap.hpp"
+
+namespace {
+
+iclap::Frame frame(const std::string& object, std::int64_t exploration, double x, double y, double z,
+                   double pressure) {
+  iclap::Frame f;
+  f.object = object;
+  f.exploration = exploration;
+  f.position = Eigen::Vector3d(x, y, z);
+  f.pressures = Eigen::MatrixXd::Constant(2, 3, 0.0);
+  f.pressures(1, 2) = pressure;
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("exploration_overlap: exact counts, inclusive radius, contacts only, order of first appearance") {
+  iclap::Dataset ds;
+  ds.rows = 2;
+  ds.cols = 3;
+  // Object b first in the file: the result follows the file. Coordinates
+  // and the radius R = 2^-7 m are exact in binary, so "at the radius" is
+  // exactly at it.
+  constexpr double R = 0.0078125;
+  ds.frames = {
+      frame("b", 7, 0.5, 0.5, 0.5, 100),       // b has one exploration: never near anything
+      frame("a", 3, 0.0, 0, 0, 100),           // 0.004 from a/1's first contact
+      frame("a", 3, 0.25, 0, 0, 100),          // exactly R from a/1's second contact
+      frame("a", 3, 0.5, 0, 0, 100),           // 0.008 from a/2's contact: outside
+      frame("a", 3, 0.5, 0.001, 0, 10),        // not a contact (max 10 <= 20)
+      frame("a", 1, 0.004, 0, 0, 100),         // near a/3
+      frame("a", 1, 0.25 + R, 0, 0, 100),      // near a/3 (at the radius)
+      frame("a", 1, 0.4, 0, 0, 0),             // not a contact
+      frame("a", 2, 0.5, 0.008, 0, 100),       // 0.007 from a/3's light frame, 0.008 from its contact
+      frame("a", 2, 0.5005, 0.0011, 0, 5),     // close to a/3's third contact, but not a contact
+      frame("b", 7, 0.5, 0.5, 0.501, 100),     // same exploration as b's first: not counted
+  };
+  const auto r = iclap::exploration_overlap(ds, R);
+  REQUIRE(r.size() == 4);
+  CHECK(r[0].object == "b");
+  CHECK(r[0].exploration == 7);
+  CHECK(r[0].contacts == 2);
+  CHECK(r[0].near == 0);
+  CHECK(r[1].object == "a");
+  CHECK(r[1].exploration == 3);
+  CHECK(r[1].contacts == 3);
+  CHECK(r[1].near == 2);
+  CHECK(r[2].exploration == 1);
+  CHECK(r[2].contacts == 2);
+  CHECK(r[2].near == 2);
+  CHECK(r[3].exploration == 2);
+  CHECK(r[3].contacts == 1);
+  CHECK(r[3].near == 0);
+
+  // A threshold of 4 makes the light frames (10 and 5) contacts.
+  const auto low = iclap::exploration_overlap(ds, R, 4.0);
+  REQUIRE(low.size() == 4);
+  CHECK(low[1].contacts == 4);
+  CHECK(low[1].near == 4);  // a/3's third contact and light frame now meet a/2's light frame
+  CHECK(low[2].contacts == 2);
+  CHECK(low[2].near == 2);
+  CHECK(low[3].contacts == 2);
+  CHECK(low[3].near == 2);  // a/2's first frame is 0.007 from a/3's light frame
+
+  // A smaller radius: a/3 and a/1 are 0.004 and R apart.
+  const auto tight = iclap::exploration_overlap(ds, 0.0045);
+  CHECK(tight[1].near == 1);
+  CHECK(tight[2].near == 1);
+}
+
+TEST_CASE("exploration_overlap: empty input, explorations without contacts, bad arguments") {
+  iclap::Dataset ds;
+  CHECK(iclap::exploration_overlap(ds, 0.01).empty());
+  ds.frames = {frame("a", 0, 0, 0, 0, 0), frame("a", 1, 0, 0, 0, 0)};
+  const auto r = iclap::exploration_overlap(ds, 0.01);
+  REQUIRE(r.size() == 2);
+  CHECK(r[0].contacts == 0);
+  CHECK(r[1].near == 0);
+  for (const double bad : {0.0, -1.0, std::numeric_limits<double>::infinity(), std::nan("")}) {
+    CAPTURE(bad);
+    try {
+      (void)iclap::exploration_overlap(ds, bad);
+      FAIL("accepted");
+    } catch (const iclap::InvalidArgument& e) {
+      CHECK(e.argument() == "radius");
+    }
+  }
+  try {
+    (void)iclap::exploration_overlap(ds, 0.01, -1.0);
+    FAIL("accepted");
+  } catch (const iclap::InvalidArgument& e) {
+    CHECK(e.argument() == "threshold");
+  }
+}
