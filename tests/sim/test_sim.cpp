@@ -62,6 +62,18 @@ std::string csv_bytes(const iclap::Dataset& ds) {
   return out.str();
 }
 
+// No arm noise or quantisation and the object never re-placed: the recorded
+// poses are the simulated ones, in the object's frame.
+iclap::SimulationSettings exact_arm_still_object() {
+  iclap::SimulationSettings s;
+  s.arm.position_noise = 0;
+  s.arm.orientation_noise = 0;
+  s.arm.position_resolution = 0;
+  s.exploration.placement_shift = 0;
+  s.exploration.placement_yaw = 0;
+  return s;
+}
+
 std::vector<iclap::SimObject> some_builtins() {
   return {iclap::builtin_object("pliers_1"), iclap::builtin_object("wooden_cuboid_1"),
           iclap::builtin_object("fixed_wrench_2")};
@@ -207,12 +219,7 @@ TEST_CASE("exploration: frames, timing, quantisation, start without contact") {
 }
 
 TEST_CASE("exploration: physically consistent on every built-in object") {
-  iclap::SimulationSettings s;
-  s.arm.position_noise = 0;
-  s.arm.orientation_noise = 0;
-  s.arm.position_resolution = 0;
-  s.exploration.placement_shift = 0;
-  s.exploration.placement_yaw = 0;
+  const iclap::SimulationSettings s = exact_arm_still_object();
   const double raw_to_newton = s.sensor.full_scale_pressure / s.sensor.max_raw * s.sensor.pitch * s.sensor.pitch;
   for (const auto& obj : iclap::builtin_objects()) {
     CAPTURE(obj.name);
@@ -301,10 +308,7 @@ TEST_CASE("exploration: the covering operator spreads its touches over the objec
   // differs. Same seeds, 1 (uninformed) or 16 start candidates; the spread
   // is the mean distance from each contact to the nearest contact of an
   // earlier sweep of the same exploration (pad centres, object frame).
-  iclap::SimulationSettings s;
-  s.arm.position_noise = 0;
-  s.exploration.placement_shift = 0;
-  s.exploration.placement_yaw = 0;
+  iclap::SimulationSettings s = exact_arm_still_object();
   s.exploration.sweep_length_min = 0.01;
   s.exploration.sweep_length_max = 0.02;
   s.exploration.turn_probability = 0;
