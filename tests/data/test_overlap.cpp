@@ -98,6 +98,17 @@ TEST_CASE("exploration_overlap: empty input, explorations without contacts, bad 
       CHECK(e.argument() == "radius");
     }
   }
+  // A contact at a non-finite position is named; a non-contact one is ignored.
+  ds.frames.push_back(frame("a", 1, std::nan(""), 0, 0, 0));
+  CHECK(iclap::exploration_overlap(ds, 0.01).size() == 2);
+  ds.frames.push_back(frame("a", 1, 0, std::numeric_limits<double>::infinity(), 0, 50));
+  try {
+    (void)iclap::exploration_overlap(ds, 0.01);
+    FAIL("accepted");
+  } catch (const iclap::NonFiniteValue& e) {
+    CHECK(e.argument() == "frames[3].position");
+  }
+  ds.frames.pop_back();
   try {
     (void)iclap::exploration_overlap(ds, 0.01, -1.0);
     FAIL("accepted");

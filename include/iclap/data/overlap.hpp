@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -18,7 +19,9 @@
 #include <Eigen/Core>
 
 #include "iclap/core/check.hpp"
+#include "iclap/core/types.hpp"
 #include "iclap/data/dataset.hpp"
+#include "iclap/search/kdtree.hpp"
 
 namespace iclap {
 
@@ -40,9 +43,10 @@ struct ExplorationOverlap {
 /// contacts = near = 0; an object with one exploration has near = 0.
 ///
 /// Throws InvalidArgument naming `radius` unless it is finite and positive,
-/// or `threshold` unless it is finite and >= 0. O(n^2) per object in its
-/// contact frames n (every pair compared once at most; a few thousand
-/// contacts per object take milliseconds).
+/// or `threshold` unless it is finite and >= 0, and NonFiniteValue naming
+/// `frames[i].position` for a contact frame i at a NaN or infinite position.
+/// One kd-tree per exploration:
+/// O(E n log n) per object of E explorations and n contact frames.
 inline std::vector<ExplorationOverlap> exploration_overlap(const Dataset& ds, double radius,
                                                            double threshold = kDefaultContactThreshold) {
   check_positive(radius, "radius");
@@ -62,31 +66,38 @@ inline std::vector<ExplorationOverlap> exploration_overlap(const Dataset& ds, do
   };
   std::vector<Object> objects;
   std::unordered_map<std::string, std::size_t> object_index;
-  for (const Frame& f : ds.frames) {
+  for (std::size_t i = 0; i < ds.frames.size(); ++i) {
+    const Frame& f = ds.frames[i];
     const auto [oit, onew] = object_index.emplace(f.object, objects.size());
     if (onew) objects.push_back(Object{f.object, {}, {}});
     Object& o = objects[oit->second];
     const auto [eit, enew] = o.index.emplace(f.exploration, o.explorations.size());
     if (enew) o.explorations.push_back(Exploration{f.exploration, {}});
-    if (is_contact(f, threshold)) o.explorations[eit->second].contacts.push_back(f.position);
+    if (!is_contact(f, threshold)) continue;
+    check_finite(f.position, "frames[" + std::to_string(i) + "].position");
+    o.explorations[eit->second].contacts.push_back(f.position);
   }
 
   std::vector<ExplorationOverlap> out;
   for (const Object& o : objects) {
+    // One kd-tree per exploration with contacts (pad centres).
+    std::vector<std::optional<KdTreeSearch<double, 3>>> trees(o.explorations.size());
+    for (std::size_t e = 0; e < o.explorations.size(); ++e) {
+      const auto& c = o.explorations[e].contacts;
+      if (c.empty()) continue;
+      Cloud<double, 3> points(3, static_cast<Index>(c.size()));
+      for (std::size_t i = 0; i < c.size(); ++i) points.col(static_cast<Index>(i)) = c[i];
+      trees[e].emplace(std::move(points));
+    }
     for (std::size_t e = 0; e < o.explorations.size(); ++e) {
       const Exploration& ex = o.explorations[e];
       ExplorationOverlap r{o.name, ex.id, ex.contacts.size(), 0};
       for (const Eigen::Vector3d& p : ex.contacts) {
-        bool found = false;
-        for (std::size_t g = 0; g < o.explorations.size() && !found; ++g) {
-          if (g == e) continue;
-          for (const Eigen::Vector3d& q : o.explorations[g].contacts)
-            if ((q - p).squaredNorm() <= r2) {
-              found = true;
-              break;
-            }
-        }
-        if (found) ++r.near;
+        for (std::size_t g = 0; g < trees.size(); ++g)
+          if (g != e && trees[g] && trees[g]->nearest(p.data()).squared_distance <= r2) {
+            ++r.near;
+            break;
+          }
       }
       out.push_back(std::move(r));
     }
