@@ -36,6 +36,7 @@
 #include "iclap/sim/builtin_objects.hpp"
 #include "iclap/sim/objects.hpp"
 #include "recognition_setup.hpp"
+#include "sim_options.hpp"
 #include "stop_signals.hpp"
 
 namespace {
@@ -87,6 +88,10 @@ const std::string kUsage = std::string(
     "                      writes, so 5 is one the references have not seen)\n"
     "    [--sim-seed S]    simulation seed (default 1)\n"
     "    [--real-time]     deliver frames at the rig's pace (5 frames/s)\n"
+    "    [--shift-mm D] [--yaw-deg A] [--frames F] [--sweep-min-mm L] [--sweep-max-mm L]\n"
+    "    [--turn-probability P] [--start-candidates K]\n"
+    "                      the scene and the operator, as `iclap simulate` (same\n"
+    "                      defaults): give the references' options to simulate as they were\n"
     "\n"
     "options:\n"
     "  --method M          fusion method (default iclap+icp+bow); any expression of\n"
@@ -381,6 +386,7 @@ LiveSource make_source(const Options& o) {
   for (const char* opt : {"pose", "rate", "grid"}) only_with(opt, "port");
   only_with("object", "replay");
   for (const char* opt : {"sim-seed", "unit"}) only_with(opt, "simulate");
+  for (const auto& opt : simulation_option_names()) only_with(opt.c_str(), "simulate");
   if (o.flag("real-time") && !o.has("simulate")) throw UsageError("--real-time needs --simulate");
   if (o.has("exploration") && !o.has("replay") && !o.has("simulate"))
     throw UsageError("--exploration needs --replay or --simulate");
@@ -426,9 +432,11 @@ LiveSource make_source(const Options& o) {
     const std::int64_t exploration = o.integer("exploration", 5, 0);
     SimObject object = simulation_object(o.string("simulate"), o.choice("unit", {"auto", "m", "mm"}, "auto"));
     s.truth = object.name;
+    SimulationSettings simulation;
+    parse_simulation_options(o, simulation.exploration);
     rig::SimFrameSource::Settings settings;
     settings.real_time = o.flag("real-time");
-    s.source = std::make_unique<rig::SimFrameSource>(std::move(object), SimulationSettings{}, seed, exploration, settings);
+    s.source = std::make_unique<rig::SimFrameSource>(std::move(object), simulation, seed, exploration, settings);
     return s;
   }
   s.port_path = o.string("port");
@@ -676,6 +684,7 @@ int run_live_command(const Args& args) {
                         "seed", "weight-repeats", "threads", "port", "pose", "rate", "grid", "replay", "object",
                         "exploration", "simulate", "sim-seed", "unit", "fixed", "repeats", "traces"})
     value_options.insert(v);
+  for (const auto& v : simulation_option_names()) value_options.insert(v);
   const Options o(args, value_options, {"cross-validate", "real-time", "zero-weights", "inner-codebooks"});
   o.expect_positional(0, 0, "no positional arguments (the references are --references FILE.csv)");
   if (!o.has("references")) throw UsageError("missing --references TRAIN.csv");
@@ -713,9 +722,10 @@ int run_live_command(const Args& args) {
   const bool cross_validate = o.flag("cross-validate");
   if (cross_validate) {
     // The sources and their options: the references are the source.
-    for (const char* opt : {"port", "replay", "simulate", "top", "pose", "rate", "grid", "object", "exploration",
-                            "sim-seed", "unit"})
-      if (o.has(opt)) throw UsageError(std::string("--cross-validate takes no --") + opt + " (it replays the references)");
+    std::set<std::string> sources = simulation_option_names();
+    sources.insert({"port", "replay", "simulate", "top", "pose", "rate", "grid", "object", "exploration", "sim-seed", "unit"});
+    for (const auto& opt : sources)
+      if (o.has(opt)) throw UsageError("--cross-validate takes no --" + opt + " (it replays the references)");
     if (o.flag("real-time")) throw UsageError("--cross-validate takes no --real-time (it replays the references)");
     // The traces' path, checked before the (long) computation.
     if (o.has("traces")) check_output_path(o.string("traces"), "--traces");

@@ -9,9 +9,11 @@
 #include <functional>
 #include <iostream>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "cli.hpp"
+#include "sim_options.hpp"
 #include "iclap/data/csv_writer.hpp"
 #include "iclap/data/dataset.hpp"
 #include "iclap/sim/builtin_objects.hpp"
@@ -22,8 +24,9 @@ namespace {
 
 int run_simulate(const iclap::cli::Args& args) {
   using namespace iclap::cli;
-  const Options opt(args, {"objects", "unit", "explorations", "seed", "out", "threads", "shift-mm", "yaw-deg", "frames",
-                                "sweep-min-mm", "sweep-max-mm", "turn-probability", "start-candidates"});
+  std::set<std::string> names = simulation_option_names();
+  names.insert({"objects", "unit", "explorations", "seed", "out", "threads"});
+  const Options opt(args, names);
   opt.expect_positional(0, 0, "no positional arguments");
   const std::string objects_arg = opt.string("objects", "builtin");
   const std::string unit = opt.choice("unit", {"auto", "m", "mm"}, "auto");
@@ -34,18 +37,7 @@ int run_simulate(const iclap::cli::Args& args) {
   iclap::SimulationSettings settings;
   settings.explorations = static_cast<int>(opt.integer("explorations", 5, 1, 1000));
   settings.threads = static_cast<unsigned>(opt.integer("threads", 0, 0, 256));
-  settings.exploration.placement_shift = opt.number("shift-mm", 10.0, 0.0, 1000.0) * 1e-3;
-  settings.exploration.placement_yaw = opt.number("yaw-deg", 10.0, 0.0, 180.0) * 3.14159265358979323846 / 180.0;
-  settings.exploration.max_frames_mean = opt.number("frames", 85.0, 1.0, 1e6);
-  // The operator's sweeps (ExplorationSettings); defaults as in the library.
-  settings.exploration.sweep_length_min = opt.number("sweep-min-mm", 30.0, 0.1, 1000.0) * 1e-3;
-  settings.exploration.sweep_length_max = opt.number("sweep-max-mm", 80.0, 0.1, 1000.0) * 1e-3;
-  if (settings.exploration.sweep_length_max < settings.exploration.sweep_length_min)
-    throw UsageError("--sweep-max-mm must be >= --sweep-min-mm, got " + opt.string("sweep-max-mm", "80") + " < " +
-                     opt.string("sweep-min-mm", "30"));
-  settings.exploration.turn_probability = opt.number("turn-probability", 0.75, 0.0, 1.0);
-  settings.exploration.start_candidates = static_cast<int>(
-      opt.integer("start-candidates", 1, 1, iclap::ExplorationSettings::kMaxStartCandidates));
+  parse_simulation_options(opt, settings.exploration);
   const long long seed = opt.integer("seed", 1, 0);
 
   std::vector<iclap::SimObject> objects;

@@ -357,6 +357,32 @@ TEST_CASE("iclap live --replay and --simulate") {
     REQUIRE(cv.status == 0);
     CHECK(cv.out.find("8 held-out explorations replayed") != std::string::npos);
   }
+  {  // Simulated now with the scene and operator options: the same frames as
+     // `iclap simulate` writes with them, and not those of the default operator.
+    const std::vector<std::string> scene = {"--start-candidates", "8",  "--sweep-min-mm", "10", "--sweep-max-mm", "20",
+                                            "--turn-probability", "0",  "--shift-mm",     "4",  "--yaw-deg",      "3",
+                                            "--frames",           "60"};
+    std::vector<std::string> sim = {"simulate", "--explorations", "1", "--out", scratch("covering.csv")};
+    sim.insert(sim.end(), scene.begin(), scene.end());
+    REQUIRE(run_iclap(sim, scratch).status == 0);
+    const std::vector<std::string> live = {"live", "--references", kTrain, "--method", kMethod, "--confidence", "1",
+                                           "--max-touches", "8"};
+    std::vector<std::string> now = live, replayed = live, plain = live;
+    now.insert(now.end(), {"--simulate", "c_clamp", "--exploration", "0"});
+    now.insert(now.end(), scene.begin(), scene.end());
+    replayed.insert(replayed.end(), {"--replay", scratch("covering.csv"), "--object", "c_clamp", "--exploration", "0"});
+    plain.insert(plain.end(), {"--simulate", "c_clamp", "--exploration", "0"});
+    const auto a = run_iclap(now, scratch), b = run_iclap(replayed, scratch), c = run_iclap(plain, scratch);
+    INFO(a.err);
+    INFO(b.err);
+    REQUIRE(a.status == 0);
+    REQUIRE(b.status == 0);
+    REQUIRE(c.status == 0);
+    const auto touches = lines_starting_with(a.out, "touch ");
+    CHECK(touches.size() == 8);
+    CHECK(touches == lines_starting_with(b.out, "touch "));
+    CHECK(touches != lines_starting_with(c.out, "touch "));
+  }
   {  // A mesh file, its unit from meshes.json beside it: not a reference object.
     const std::string mesh = ICLAP_SHARED_DIR "/data/meshes/wt_rubber_mallet.ply";
     if (fs::exists(mesh)) {
@@ -474,6 +500,11 @@ TEST_CASE("iclap live: bad input exits 2 with a clear message") {
       {{"live", "--references", refs, "--replay", kClamp, "--object", "teapot"}, "has no frame of object 'teapot'"},
       {{"live", "--references", refs, "--replay", kClamp, "--pose", "fixed:0,0,0"}, "--pose needs --port"},
       {{"live", "--references", refs, "--replay", kClamp, "--real-time"}, "--real-time needs --simulate"},
+      {{"live", "--references", refs, "--replay", kClamp, "--start-candidates", "8"},
+       "--start-candidates needs --simulate"},
+      {{"live", "--references", refs, "--cross-validate", "--frames", "10"}, "--cross-validate takes no --frames"},
+      {{"live", "--references", refs, "--simulate", "hammer", "--sweep-min-mm", "90"},
+       "--sweep-max-mm must be >= --sweep-min-mm, got 80 < 90"},
       {{"live", "--references", refs, "--method", kMethod, "--replay", scratch("grid2x2.csv")},
        "taxel grid 2x2 differs from the references' 14x6"},
       {{"live", "--references", kClamp, "--replay", kClamp}, "give fixed weights"},
