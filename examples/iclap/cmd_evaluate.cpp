@@ -24,6 +24,7 @@
 #include "iclap/core/version.hpp"
 #include "iclap/data/csv_reader.hpp"
 #include "iclap/data/csv_writer.hpp"
+#include "iclap/data/overlap.hpp"
 #include "iclap/data/ply_cloud.hpp"
 #include "iclap/io/atomic_file.hpp"
 #include "iclap/recognition/cross_validation.hpp"
@@ -659,6 +660,16 @@ int run_evaluate(const Args& args) {
   std::printf("%zu objects, %zu frames, %ld touches (contact threshold %g), %d folds (one exploration of every object held out)\n",
               table.objects.size(), dataset.frames.size(), static_cast<long>(table.size()), ro.contact_threshold,
               cv.folds());
+  {  // How much a held-out exploration can be matched at all (README, "How the operator moves").
+    std::size_t contacts = 0, near = 0;
+    for (const auto& e : exploration_overlap(dataset, 0.005, ro.contact_threshold)) {
+      contacts += e.contacts;
+      near += e.near;
+    }
+    if (contacts > 0)
+      std::printf("overlap: %.1f%% of the touches lie within 5 mm of a touch of another exploration of the same object\n",
+                  100.0 * static_cast<double>(near) / static_cast<double>(contacts));
+  }
   std::printf("descriptor %s, k = %ld, transform %s, label scale %g m/word, %s ICP (%s; %s), %d draws per case, seed %llu, %u threads\n\n",
               ro.descriptor.c_str(), static_cast<long>(ro.k), ro.transform.c_str(), ro.label_scale, ro.scalar.c_str(),
               ro.search.c_str(), ro.icp_summary(needed).c_str(), s.repeats, static_cast<unsigned long long>(s.seed), threads);
