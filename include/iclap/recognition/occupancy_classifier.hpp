@@ -216,15 +216,14 @@ class OccupancyClassifier final : public Classifier {
   /// the pad orientation), "objects[j].normals" under back_depth for an
   /// object without pad normals, and what fit_evidence throws.
   void fit(const std::vector<TouchSet>& objects, Index /*vocabulary*/) override {
-    validate();
-    const std::vector<double> layers = layers_of(back_depth, free_radius);
+    const std::vector<double> layers = back_layers();
     std::vector<OccupancyEvidence> evidence(objects.size());
     for (std::size_t j = 0; j < objects.size(); ++j) {
-      const std::string arg = "objects[" + std::to_string(j) + "]";
-      objects[j].validate(arg);
-      require_taxels(objects[j], arg, !layers.empty());
-      evidence[j].occupied = objects[j].contact_points;
       const TouchSet& t = objects[j];
+      const std::string arg = "objects[" + std::to_string(j) + "]";
+      t.validate(arg);
+      require_taxels(t, arg, !layers.empty());
+      evidence[j].occupied = t.contact_points;
       evidence[j].free.resize(3, t.free_points.cols() + static_cast<Index>(layers.size()) *
                                                             (t.free_points.cols() + t.contact_points.cols()));
       evidence[j].free.leftCols(t.free_points.cols()) = t.free_points;
