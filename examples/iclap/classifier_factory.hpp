@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "iclap/recognition/bow_classifier.hpp"
-#include "iclap/recognition/height_classifier.hpp"
 #include "iclap/recognition/occupancy_classifier.hpp"
 #include "iclap/recognition/registration_classifier.hpp"
 #include "recognition_setup.hpp"
@@ -86,11 +85,8 @@ std::vector<std::unique_ptr<Classifier>> make_classifiers_for(const RecognitionO
     RecognitionOptions::split_trim_variant(label, name, trim);
     if (name == "bow" && name == label) {
       out.push_back(std::make_unique<BowClassifier>());
-    } else if (is_height_classifier(name) && name == label) {
-      auto c = std::make_unique<HeightClassifier>();
-      c->tilt_scale = o.tilt_scale;
-      if (name == "height_contact") c->contact_scale = o.contact_scale;
-      out.push_back(std::move(c));
+    } else if (auto h = make_height_classifier(o, label)) {
+      out.push_back(std::move(h));
     } else if (name == "occupancy" && name == label) {
       auto c = std::make_unique<OccupancyClassifier>();
       o.configure_occupancy(*c);

@@ -673,9 +673,9 @@ int run_evaluate(const Args& args) {
   std::printf("descriptor %s, k = %ld, transform %s, label scale %g m/word, %s ICP (%s; %s), %d draws per case, seed %llu, %u threads\n\n",
               ro.descriptor.c_str(), static_cast<long>(ro.k), ro.transform.c_str(), ro.label_scale, ro.scalar.c_str(),
               ro.search.c_str(), ro.icp_summary(needed).c_str(), s.repeats, static_cast<unsigned long long>(s.seed), threads);
-  if (std::find(needed.begin(), needed.end(), "height") != needed.end()) std::printf("height: tilt scale %g m/rad\n\n", ro.tilt_scale);
-  if (std::find(needed.begin(), needed.end(), "height_contact") != needed.end())
-    std::printf("height_contact: tilt scale %g m/rad, contact scale %g m/m\n\n", ro.tilt_scale, ro.contact_scale);
+  for (const char* h : {"height", "height_contact"})
+    if (std::find(needed.begin(), needed.end(), h) != needed.end())
+      std::printf("%s: %s\n\n", h, ro.height_summary(h).c_str());
   if (std::find(needed.begin(), needed.end(), "occupancy") != needed.end())
     std::printf("occupancy: %s\n\n", ro.occupancy_summary().c_str());
   std::fflush(stdout);

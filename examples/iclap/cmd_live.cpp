@@ -700,6 +700,9 @@ int run_live_command(const Args& args) {
   if (setup.ro.trim_auto || !setup.ro.trim_auto_by_name.empty())
     throw UsageError("--trim auto is chosen by iclap evaluate's cross validation; live recognition needs fixed "
                      "fractions (--trim F or NAME=F)");
+  if (setup.ro.height_is_auto())
+    throw UsageError("lists of --tilt-scale or --contact-scale values are chosen by iclap evaluate's cross "
+                     "validation; live recognition needs one value of each");
   if (setup.ro.occupancy_is_auto())
     throw UsageError("lists of --occupancy-* values are chosen by iclap evaluate's cross validation; live "
                      "recognition needs one value of each");

@@ -13,6 +13,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -20,6 +21,7 @@
 #include "cli.hpp"
 #include "iclap/data/dataset.hpp"
 #include "iclap/recognition/classifier.hpp"
+#include "iclap/recognition/height_classifier.hpp"
 #include "iclap/recognition/methods.hpp"
 #include "iclap/recognition/occupancy_classifier.hpp"
 #include "iclap/recognition/touch_table.hpp"
@@ -49,6 +51,13 @@ struct RecognitionOptions {
   double descriptor_scale = 0.01;    ///< metres per descriptor unit (iCLAP-N)
   double tilt_scale = 0.01;          ///< metres per radian of pad tilt (height, height_contact)
   double contact_scale = 1;          ///< metres per metre of contact-patch extent (height_contact)
+  /// Scales of the height classifiers for the training folds to choose
+  /// among (beyond the paper), like the occupancy lists below: every value
+  /// --tilt-scale lists is a variant of height, every combination of the
+  /// values --tilt-scale and --contact-scale list a variant of
+  /// height_contact. Each list holds one value when its option gives one;
+  /// the scalars above hold the first.
+  std::vector<double> tilt_scales = {0.01}, contact_scales = {1};
   int max_iterations = 50;
   double relative_tolerance = 1e-6;
   /// Trimmed ICP (Chetverikov et al.): the motion and the distance use the
@@ -106,13 +115,19 @@ struct RecognitionOptions {
   /// the pad (metres; none without it), each exactly (format_exact, so two
   /// variants never share a name), '.' written as '_'.
   static std::string occupancy_variant_name(const OccupancyVariant& v) {
-    auto num = [](double x) {
-      std::string t = format_exact(x);
-      std::replace(t.begin(), t.end(), '.', '_');
-      return t;
-    };
-    return "occupancy-t" + num(v.truncation) + "-r" + num(v.free_radius) + "-c" + num(v.conflict) + "-u" +
-           num(v.unknown) + (v.back > 0 ? "-b" + num(v.back) : "");
+    return "occupancy-t" + variant_number(v.truncation) + "-r" + variant_number(v.free_radius) + "-c" +
+           variant_number(v.conflict) + "-u" + variant_number(v.unknown) +
+           (v.back > 0 ? "-b" + variant_number(v.back) : "");
+  }
+  /// A setting's value in a variant's name: exactly (format_exact, so two
+  /// variants never share a name), '.' written as '_' and an exponent's '+'
+  /// left out (1e+06: "1e06"), since a classifier's name holds only letters,
+  /// digits, '_' and '-'.
+  static std::string variant_number(double x) {
+    std::string t = format_exact(x);
+    std::replace(t.begin(), t.end(), '.', '_');
+    t.erase(std::remove(t.begin(), t.end(), '+'), t.end());
+    return t;
   }
   /// Are occupancy's settings chosen on the training folds?
   bool occupancy_is_auto() const { return occupancy_variants.size() > 1; }
@@ -125,6 +140,62 @@ struct RecognitionOptions {
   std::vector<std::string> occupancy_variant_names() const {
     std::vector<std::string> out;
     for (const auto& v : occupancy_variants) out.push_back(occupancy_variant_name(v));
+    return out;
+  }
+
+  /// The scales of one variant of a height classifier.
+  struct HeightVariant {
+    std::string base;  ///< "height" or "height_contact"
+    double tilt, contact;
+  };
+  /// The most variants the scale lists may make for one height classifier
+  /// (each is a classifier of its own, though a cheap one: a search
+  /// structure of a few thousand 4-D points per object).
+  static constexpr std::size_t kMaxHeightVariants = 256;
+  /// "height-s0_01" (tilt scale), "height_contact-s0_01-c0_5" (tilt and
+  /// contact scales), each value as occupancy_variant_name writes it.
+  static std::string height_variant_name(const HeightVariant& v) {
+    return v.base + "-s" + variant_number(v.tilt) + (v.base == "height_contact" ? "-c" + variant_number(v.contact) : "");
+  }
+  /// The variants of height classifier `base` the training folds choose
+  /// among; empty when its scales are fixed (height: one tilt scale;
+  /// height_contact: one tilt and one contact scale) or `base` is no height
+  /// classifier.
+  std::vector<HeightVariant> height_variants(const std::string& base) const {
+    std::vector<HeightVariant> out;
+    if (base == "height") {
+      if (tilt_scales.size() > 1)
+        for (double s : tilt_scales) out.push_back({base, s, 0});
+    } else if (base == "height_contact") {
+      if (tilt_scales.size() * contact_scales.size() > 1)
+        for (double s : tilt_scales)
+          for (double c : contact_scales) out.push_back({base, s, c});
+    }
+    return out;
+  }
+  /// The height variant named `label` (height_variant_name), if any.
+  std::optional<HeightVariant> find_height_variant(const std::string& label) const {
+    for (const char* base : {"height", "height_contact"})
+      for (const auto& v : height_variants(base))
+        if (height_variant_name(v) == label) return v;
+    return std::nullopt;
+  }
+  /// Are the scales of some height classifier chosen on the training folds?
+  bool height_is_auto() const { return tilt_scales.size() > 1 || contact_scales.size() > 1; }
+  /// The scales of height classifier `base` as the reports print them:
+  /// "tilt scale 0.01 m/rad" for height, "tilt scale 0.005 or 0.01 m/rad,
+  /// contact scale 1 m/m; 2 variants chosen on the training folds" for
+  /// height_contact with a list.
+  std::string height_summary(const std::string& base) const {
+    auto values = [](const std::vector<double>& list) {
+      std::string out;
+      for (std::size_t i = 0; i < list.size(); ++i) out += (i ? " or " : "") + format_value(list[i]);
+      return out;
+    };
+    std::string out = "tilt scale " + values(tilt_scales) + " m/rad";
+    if (base == "height_contact") out += ", contact scale " + values(contact_scales) + " m/m";
+    const auto n = height_variants(base).size();
+    if (n > 0) out += "; " + std::to_string(n) + " variants chosen on the training folds";
     return out;
   }
 
@@ -174,11 +245,14 @@ struct RecognitionOptions {
   }
 
   /// The variants the training folds choose among for classifier `name`
-  /// (its trim, or occupancy's settings); empty when it has fixed settings.
+  /// (its trim, occupancy's settings or a height classifier's scales);
+  /// empty when it has fixed settings.
   std::vector<std::string> chosen_variants(const std::string& name) const {
     if (trim_is_auto(name)) return trim_variants(name);
     if (name == "occupancy" && occupancy_is_auto()) return occupancy_variant_names();
-    return {};
+    std::vector<std::string> heights;
+    for (const auto& v : height_variants(name)) heights.push_back(height_variant_name(v));
+    return heights;
   }
 
   /// The classifiers to build for `needed` (the methods' own names): each
@@ -249,7 +323,11 @@ struct RecognitionOptions {
            "  --contact-scale S       metres per metre of contact-patch extent for height_contact\n"
            "                          (default 1: a millimetre of patch size counts as a\n"
            "                          millimetre of height)\n"
-           "                          (each scale option: > 0 and <= 1e6)\n"
+           "                          (each scale option: > 0 and <= 1e6; --tilt-scale and\n"
+           "                          --contact-scale take lists, e.g. 0.005,0.01: every value is a\n"
+           "                          variant of height and every combination one of\n"
+           "                          height_contact, chosen on the training folds like the\n"
+           "                          weights; evaluate only)\n"
            "  --scalar float|double   ICP arithmetic (default float)\n"
            "  --search auto|kdtree|brute  closest-point search: auto (default) scans small\n"
            "                          references by brute force and builds kd-trees for the\n"
@@ -306,11 +384,31 @@ struct RecognitionOptions {
   /// UsageError naming the option and the value otherwise.
   static double scale_option(const Options& o, const std::string& name, double fallback) {
     const double v = o.number(name, fallback);
+    check_scale(name, v);
+    return v;
+  }
+  /// The values of scale option `name` (comma-separated; `fallback` when
+  /// absent), each checked as scale_option checks one; a value listed twice
+  /// is an error.
+  static std::vector<double> scale_list(const Options& o, const std::string& name, double fallback) {
+    if (!o.has(name)) return {fallback};
+    std::vector<double> out;
+    for (const auto& item : Options::split(o.string(name), ',')) {
+      const double v = Options::parse_number(item, "--" + name, -std::numeric_limits<double>::infinity(),
+                                             std::numeric_limits<double>::infinity());
+      check_scale(name, v);
+      if (std::find(out.begin(), out.end(), v) != out.end()) throw UsageError("--" + name + " lists " + item + " twice");
+      out.push_back(v);
+    }
+    return out;
+  }
+  /// UsageError naming scale option `name` and `v` unless v is in
+  /// (0, kLargestScale].
+  static void check_scale(const std::string& name, double v) {
     if (!(v > 0 && v <= kLargestScale))
       throw UsageError("--" + name + " must be > 0 and <= " + format_value(kLargestScale) + ", got " +
                        format_value(v) +
                        (v > 0 ? " (metres per unit: a larger scale overflows the squared distances)" : ""));
-    return v;
   }
 
   void parse(const Options& o) {
@@ -321,8 +419,15 @@ struct RecognitionOptions {
     k = static_cast<Index>(o.integer("k", k, 1, 100000));
     label_scale = scale_option(o, "label-scale", label_scale);
     descriptor_scale = scale_option(o, "descriptor-scale", descriptor_scale);
-    tilt_scale = scale_option(o, "tilt-scale", tilt_scale);
-    contact_scale = scale_option(o, "contact-scale", contact_scale);
+    tilt_scales = scale_list(o, "tilt-scale", tilt_scale);
+    contact_scales = scale_list(o, "contact-scale", contact_scale);
+    tilt_scale = tilt_scales.front();
+    contact_scale = contact_scales.front();
+    if (tilt_scales.size() * contact_scales.size() > kMaxHeightVariants)
+      throw UsageError("--tilt-scale and --contact-scale list " + std::to_string(tilt_scales.size()) + " x " +
+                       std::to_string(contact_scales.size()) + " = " +
+                       std::to_string(tilt_scales.size() * contact_scales.size()) + " combinations; at most " +
+                       std::to_string(kMaxHeightVariants) + " (each is a classifier of its own)");
     max_iterations = static_cast<int>(o.integer("max-iterations", max_iterations, 0, 100000));
     relative_tolerance = o.number("relative-tolerance", relative_tolerance, 0.0);
     if (o.has("trim")) parse_trim(o.string("trim"));
@@ -606,6 +711,25 @@ inline std::vector<std::string> needed_classifiers(const std::vector<Method>& me
 /// Does classifier `name` read every touch's pad normal (height,
 /// height_contact), rather than only the contact points of oriented frames?
 inline bool is_height_classifier(const std::string& name) { return name == "height" || name == "height_contact"; }
+
+/// The height classifier `label` names, configured by `o`: "height" or
+/// "height_contact" with the options' (first) scales, or a variant of one
+/// (RecognitionOptions::height_variant_name) with its scales and its name as
+/// its label; null for any other label.
+inline std::unique_ptr<HeightClassifier> make_height_classifier(const RecognitionOptions& o, const std::string& label) {
+  auto c = std::make_unique<HeightClassifier>();
+  if (is_height_classifier(label)) {
+    c->tilt_scale = o.tilt_scale;
+    if (label == "height_contact") c->contact_scale = o.contact_scale;
+  } else if (const auto v = o.find_height_variant(label)) {
+    c->tilt_scale = v->tilt;
+    if (v->base == "height_contact") c->contact_scale = v->contact;
+    c->label = label;
+  } else {
+    return nullptr;
+  }
+  return c;
+}
 
 /// The classifiers among `needed` that read the pad orientation: the height
 /// classifiers (the pad normals, and height_contact the contact points), the

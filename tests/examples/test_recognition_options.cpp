@@ -1,0 +1,153 @@
+// SPDX-License-Identifier: MIT
+// The recognition options of the example programs (examples/iclap/
+// recognition_setup.hpp): lists of the height classifiers' scales become
+// variants that the training folds choose among, each a HeightClassifier
+// with its own scales and name.
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "recognition_setup.hpp"
+
+namespace {
+
+using iclap::cli::Args;
+using iclap::cli::Options;
+using iclap::cli::RecognitionOptions;
+using iclap::cli::UsageError;
+
+RecognitionOptions parsed(const Args& args) {
+  const Options o(args, RecognitionOptions::value_options());
+  RecognitionOptions ro;
+  ro.parse(o);
+  return ro;
+}
+
+std::string usage_error(const Args& args) {
+  try {
+    parsed(args);
+  } catch (const UsageError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// Four touches of two objects: heights, tilts and contact patches that
+// differ, so that every scale moves the distances.
+iclap::TouchSet touches(double z0, double spread) {
+  iclap::TouchSet s;
+  s.positions.resize(3, 2);
+  s.positions << 0.01, 0.02, 0.0, 0.01, z0, z0 + 0.004;
+  s.normals.resize(3, 2);
+  const double a = 0.3 + spread;
+  s.normals << 0, std::sin(a), 0, 0, -1, -std::cos(a);
+  s.contact_points.resize(3, 6);
+  s.contact_points << 0, 0.003, 0.006, 0, 0.002 * spread + 0.001, 0.01,  //
+      0, 0, 0.001, 0, 0.002, 0.001,                                     //
+      z0, z0, z0, z0 + 0.004, z0 + 0.004, z0 + 0.004;
+  s.contact_offsets = {0, 3, 6};
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("without lists the height classifiers have fixed scales and no variants") {
+  const RecognitionOptions ro = parsed({"--tilt-scale", "0.02", "--contact-scale", "0.5"});
+  CHECK_FALSE(ro.height_is_auto());
+  CHECK(ro.chosen_variants("height").empty());
+  CHECK(ro.chosen_variants("height_contact").empty());
+  CHECK(ro.tilt_scale == 0.02);
+  CHECK(ro.contact_scale == 0.5);
+  auto h = iclap::cli::make_height_classifier(ro, "height_contact");
+  REQUIRE(h);
+  CHECK(h->tilt_scale == 0.02);
+  CHECK(h->contact_scale == 0.5);
+  CHECK(h->name() == "height_contact");
+  auto plain = iclap::cli::make_height_classifier(ro, "height");
+  REQUIRE(plain);
+  CHECK(plain->contact_scale == 0);
+  CHECK(plain->name() == "height");
+  CHECK(ro.height_summary("height_contact") == "tilt scale 0.02 m/rad, contact scale 0.5 m/m");
+  CHECK_FALSE(iclap::cli::make_height_classifier(ro, "occupancy"));
+  CHECK_FALSE(iclap::cli::make_height_classifier(ro, "height_contact-s0_02-c0_5"));
+}
+
+TEST_CASE("lists of scales make one variant per value (height) and per combination (height_contact)") {
+  const RecognitionOptions ro = parsed({"--tilt-scale", "0.005,0.02", "--contact-scale", "0.5,1e6"});
+  CHECK(ro.height_is_auto());
+  CHECK(ro.chosen_variants("height") == std::vector<std::string>{"height-s0_005", "height-s0_02"});
+  const std::vector<std::string> contact{"height_contact-s0_005-c0_5", "height_contact-s0_005-c1e06",
+                                         "height_contact-s0_02-c0_5", "height_contact-s0_02-c1e06"};
+  CHECK(ro.chosen_variants("height_contact") == contact);
+  CHECK(ro.chosen_variants("occupancy").empty());
+  CHECK(ro.height_summary("height") == "tilt scale 0.005 or 0.02 m/rad; 2 variants chosen on the training folds");
+  CHECK(ro.height_summary("height_contact") ==
+        "tilt scale 0.005 or 0.02 m/rad, contact scale 0.5 or 1e+06 m/m; 4 variants chosen on the training folds");
+  // The base names keep the first values.
+  CHECK(ro.tilt_scale == 0.005);
+  CHECK(ro.contact_scale == 0.5);
+
+  // Each variant is a HeightClassifier with its scales and its name, whose
+  // distances are those of a classifier given the same scales directly.
+  const std::vector<iclap::TouchSet> objects{touches(0.01, 0.0), touches(0.013, 1.0)};
+  const iclap::TouchSet test = touches(0.011, 0.5);
+  const double tilts[] = {0.005, 0.005, 0.02, 0.02}, contacts[] = {0.5, 1e6, 0.5, 1e6};
+  std::vector<Eigen::VectorXd> seen;
+  for (std::size_t i = 0; i < contact.size(); ++i) {
+    CAPTURE(contact[i]);
+    auto v = iclap::cli::make_height_classifier(ro, contact[i]);
+    REQUIRE(v);
+    CHECK(v->name() == contact[i]);
+    CHECK(v->tilt_scale == tilts[i]);
+    CHECK(v->contact_scale == contacts[i]);
+    iclap::HeightClassifier direct;
+    direct.tilt_scale = tilts[i];
+    direct.contact_scale = contacts[i];
+    v->fit(objects, 0);
+    direct.fit(objects, 0);
+    Eigen::VectorXd a(2), b(2);
+    v->distances(test, a);
+    direct.distances(test, b);
+    CHECK(a == b);
+    seen.push_back(a);
+  }
+  // ... and the scales matter here: no two variants give the same distances.
+  for (std::size_t i = 0; i < seen.size(); ++i)
+    for (std::size_t j = i + 1; j < seen.size(); ++j) CHECK(seen[i] != seen[j]);
+  auto t = iclap::cli::make_height_classifier(ro, "height-s0_02");
+  REQUIRE(t);
+  CHECK(t->tilt_scale == 0.02);
+  CHECK(t->contact_scale == 0);
+  // A name of a value not listed is no variant.
+  CHECK_FALSE(iclap::cli::make_height_classifier(ro, "height-s0_01"));
+}
+
+TEST_CASE("a fused method becomes one candidate per variant of each listed classifier") {
+  const RecognitionOptions ro = parsed({"--contact-scale", "0.5,1,2", "--occupancy-truncation", "0.002,0.003"});
+  const std::vector<iclap::Method> methods{iclap::parse_method("occupancy+height_contact")};
+  const auto expanded = ro.expand_choices(methods, {"height_contact", "occupancy"});
+  REQUIRE(expanded.size() == 1);
+  CHECK(expanded[0].candidates().size() == 6);
+  const auto built = ro.expand_choices(std::vector<std::string>{"height", "height_contact", "occupancy"});
+  // height has one tilt scale: no variants; height_contact three, occupancy two.
+  CHECK(built.size() == 1 + 3 + 2);
+  CHECK(std::count(built.begin(), built.end(), "height") == 1);
+  CHECK(std::count(built.begin(), built.end(), "height_contact-s0_01-c2") == 1);
+}
+
+TEST_CASE("bad lists of scales are refused, naming the option and the value") {
+  CHECK(usage_error({"--tilt-scale", "0.01,0"}) == "--tilt-scale must be > 0 and <= 1e+06, got 0");
+  CHECK(usage_error({"--contact-scale", "1,2e6"}) ==
+        "--contact-scale must be > 0 and <= 1e+06, got 2e+06 (metres per unit: a larger scale overflows the squared "
+        "distances)");
+  CHECK(usage_error({"--contact-scale", "1,1.0"}) == "--contact-scale lists 1.0 twice");
+  CHECK(usage_error({"--tilt-scale", "0.01,abc"}) == "--tilt-scale: 'abc' is not a number");
+  std::string many;
+  for (int i = 1; i <= 17; ++i) many += (i > 1 ? "," : "") + std::to_string(i);
+  CHECK(usage_error({"--tilt-scale", many, "--contact-scale", many}) ==
+        "--tilt-scale and --contact-scale list 17 x 17 = 289 combinations; at most 256 (each is a classifier of its "
+        "own)");
+}
