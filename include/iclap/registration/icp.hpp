@@ -103,6 +103,22 @@ class Icp {
     return align(reference, test, &initial, ws);
   }
 
+  /// Registers a cloud of your own type (a PointCloudTraits specialisation,
+  /// see iclap/core/point_cloud.hpp), read once as `to_cloud` reads it, in
+  /// double: the result is the one for a matrix of the same values. Throws
+  /// what to_cloud throws, naming `test`, then as above. (For the other
+  /// entry points, pass `to_cloud<double, Dim>(cloud)`.)
+  template <typename Search, typename C, typename = std::enable_if_t<is_point_cloud_v<C>>>
+  Result align(const ReferenceCloud<Scalar, Dim, Search>& reference, const C& test) const {
+    return align(reference, to_cloud<double, Dim>(test, "test"));
+  }
+
+  /// Same, starting from `initial`.
+  template <typename Search, typename C, typename = std::enable_if_t<is_point_cloud_v<C>>>
+  Result align(const ReferenceCloud<Scalar, Dim, Search>& reference, const C& test, const Transform& initial) const {
+    return align(reference, to_cloud<double, Dim>(test, "test"), initial);
+  }
+
   /// Same, with caller-owned buffers (`initial` may be null: identity).
   template <typename Search, typename Derived>
   Result align(const ReferenceCloud<Scalar, Dim, Search>& reference, const Eigen::MatrixBase<Derived>& test,

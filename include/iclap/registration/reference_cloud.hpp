@@ -4,11 +4,13 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include <Eigen/Core>
 
 #include "iclap/core/check.hpp"
+#include "iclap/core/point_cloud.hpp"
 #include "iclap/core/types.hpp"
 #include "iclap/search/adaptive.hpp"
 
@@ -60,6 +62,21 @@ class ReferenceCloud {
   explicit ReferenceCloud(const Eigen::MatrixBase<Derived>& points,
                           const typename Search::Settings& search_settings = {})
       : ReferenceCloud(points, Vector::Ones(Dim > 0 ? Index(Dim) : points.rows()), search_settings) {}
+
+  /// A cloud of your own type (a PointCloudTraits specialisation, see
+  /// iclap/core/point_cloud.hpp), read once as `to_cloud` reads it, in
+  /// double; unit weights. The reference is the one built from a matrix of
+  /// the same values. Throws what to_cloud throws, naming `points`, then as
+  /// the matrix constructors.
+  template <typename C, typename = std::enable_if_t<is_point_cloud_v<C>>>
+  explicit ReferenceCloud(const C& points, const typename Search::Settings& search_settings = {})
+      : ReferenceCloud(to_cloud<double, Dim>(points, "points"), search_settings) {}
+
+  /// The same with a weighted metric (below).
+  template <typename C, typename WeightsDerived, typename = std::enable_if_t<is_point_cloud_v<C>>>
+  ReferenceCloud(const C& points, const Eigen::MatrixBase<WeightsDerived>& weights,
+                 const typename Search::Settings& search_settings = {})
+      : ReferenceCloud(to_cloud<double, Dim>(points, "points"), weights, search_settings) {}
 
   /// Weighted metric. Weights must be finite and > 0, one per coordinate
   /// (errors name `weights`). InvalidArgument naming `points` for a cloud
