@@ -19,6 +19,13 @@ iclap_install_deps() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 }
 
+# ccache hashes the paths under the checkout relative to it, so a clone in
+# another directory reuses what an earlier clone compiled (the scripts source
+# this file from the checkout's root). Builds with debug information (the
+# sanitizer half) still hash their build directory, which their line tables
+# name, and -D values with absolute paths (test fixtures) hash as they are.
+if [ -z "${CCACHE_BASEDIR:-}" ]; then export CCACHE_BASEDIR="$PWD"; fi
+
 # CMake arguments shared by the scripts: ccache when present.
 iclap_cmake_launcher_args() {
   if command -v ccache >/dev/null 2>&1; then echo "-DCMAKE_CXX_COMPILER_LAUNCHER=ccache"; fi

@@ -36,6 +36,11 @@
 //      ratio_b = (t_icp / 50) / t_100_queries (target: <= 1.2; note that 50
 //      iterations make 51 query rounds, so 1.02 is the floor).
 //
+//  OwnType/ratio/<scalar>
+//      Icp::align of a 4-D test given as the user's own records (through
+//      PointCloudTraits) against the same test as a matrix, interleaved:
+//      ratio_own is what reading the records costs on top.
+//
 // Without --benchmark_filter the default run skips IcpLarge (a few minutes on
 // one core); any explicit filter is taken as given.
 #include <benchmark/benchmark.h>
@@ -348,6 +353,65 @@ void register_target() {
       ->Unit(benchmark::kMicrosecond);
 }
 
+// --- the user's own point type (PointCloudTraits) ----------------------------
+
+/// A user's record of a touch: position and word, as a rig program keeps it.
+struct TouchRecord {
+  double x, y, z;
+  double word;
+};
+using TouchRecords = std::vector<TouchRecord>;
+
+}  // namespace
+
+template <>
+struct iclap::PointCloudTraits<TouchRecords> {
+  static Index size(const TouchRecords& c) { return static_cast<Index>(c.size()); }
+  static Index dimension(const TouchRecords&) { return 4; }
+  static double coordinate(const TouchRecords& c, Index i, Index k) {
+    const TouchRecord& t = c[static_cast<std::size_t>(i)];
+    return k == 0 ? t.x : k == 1 ? t.y : k == 2 ? t.z : t.word;
+  }
+};
+
+namespace {
+
+/// `Icp::align` of a 100-point 4-D test against a 400-point reference
+/// (planar iCLAP, default termination), the test given as the library's
+/// matrix and as the user's records (read through PointCloudTraits at each
+/// call), interleaved in one loop and each timed in thread CPU time.
+/// ratio_own = t_records / t_matrix (the reading's cost; 1 is the floor);
+/// same = 1 when the two results are equal to the bit.
+template <typename Scalar>
+void BM_OwnTypeRatio(benchmark::State& state) {
+  static const bench::RegistrationProblem p = bench::make_problem<Planar>(4, 400, 100, 2018);
+  static const ReferenceCloud<Scalar, 4> reference(as_cloud<Scalar, 4>(p.model));
+  const Eigen::Matrix4Xd matrix = p.test;
+  TouchRecords records;
+  for (Index i = 0; i < matrix.cols(); ++i) records.push_back({matrix(0, i), matrix(1, i), matrix(2, i), matrix(3, i)});
+  const Icp<Scalar, 4, Planar> icp;
+  double matrix_s = 0, own_s = 0;
+  RegistrationResult<Scalar, 4> a, b;
+  for (auto _ : state) {
+    const double t0 = bench::thread_cpu_seconds();
+    a = icp.align(reference, matrix);
+    benchmark::DoNotOptimize(a);
+    const double t1 = bench::thread_cpu_seconds();
+    b = icp.align(reference, records);
+    benchmark::DoNotOptimize(b);
+    const double t2 = bench::thread_cpu_seconds();
+    matrix_s += t1 - t0;
+    own_s += t2 - t1;
+    state.SetIterationTime(t2 - t1);
+  }
+  const double runs = static_cast<double>(state.iterations());
+  state.counters["iters"] = a.iterations;
+  state.counters["matrix_us"] = 1e6 * matrix_s / runs;
+  state.counters["records_us"] = 1e6 * own_s / runs;
+  state.counters["ratio_own"] = own_s / matrix_s;
+  state.counters["same"] = a.T_model_test.matrix() == b.T_model_test.matrix() && a.iterations == b.iterations ? 1 : 0;
+}
+
 bool has_filter_flag(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
     if (std::strncmp(argv[i], "--benchmark_filter", 18) == 0) return true;
@@ -359,6 +423,8 @@ bool has_filter_flag(int argc, char** argv) {
 int main(int argc, char** argv) {
   register_target<float>();
   register_target<double>();
+  benchmark::RegisterBenchmark("OwnType/ratio/float", BM_OwnTypeRatio<float>)->UseManualTime()->Unit(benchmark::kMicrosecond);
+  benchmark::RegisterBenchmark("OwnType/ratio/double", BM_OwnTypeRatio<double>)->UseManualTime()->Unit(benchmark::kMicrosecond);
 
   register_dim<3>();
   register_dim<4>();
@@ -381,7 +447,7 @@ int main(int argc, char** argv) {
   const bool default_run = !has_filter_flag(argc, argv);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  if (default_run) benchmark::SetBenchmarkFilter("^(Target|Icp|IcpDynamic|Reference|Nearest)/");
+  if (default_run) benchmark::SetBenchmarkFilter("^(Target|OwnType|Icp|IcpDynamic|Reference|Nearest)/");
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;
