@@ -35,7 +35,11 @@ namespace iclap {
 ///
 /// `size` is the number of points, `dimension` the coordinates of each
 /// (the same for every point), `coordinate(cloud, i, k)` coordinate k of
-/// point i, for 0 <= i < size and 0 <= k < dimension. The library reads
+/// point i, for 0 <= i < size and 0 <= k < dimension. A fourth, optional,
+/// `static void check(const YourCloud&, const std::string& argument)` is
+/// called before any of them, for what only the container can tell (the
+/// built-in one for Eigen::Dynamic vectors refuses points of different
+/// sizes, naming `argument`[i]). The library reads
 /// each coordinate once, through the free functions traits::size,
 /// traits::dimension and traits::coordinate, into its own column layout:
 /// a copy of O(size x dimension) at the call, none inside the iterations.
