@@ -391,16 +391,7 @@ struct RecognitionOptions {
   /// absent), each checked as scale_option checks one; a value listed twice
   /// is an error.
   static std::vector<double> scale_list(const Options& o, const std::string& name, double fallback) {
-    if (!o.has(name)) return {fallback};
-    std::vector<double> out;
-    for (const auto& item : Options::split(o.string(name), ',')) {
-      const double v = Options::parse_number(item, "--" + name, -std::numeric_limits<double>::infinity(),
-                                             std::numeric_limits<double>::infinity());
-      check_scale(name, v);
-      if (std::find(out.begin(), out.end(), v) != out.end()) throw UsageError("--" + name + " lists " + item + " twice");
-      out.push_back(v);
-    }
-    return out;
+    return number_list(o, name, fallback, [&](const std::string&, double v) { check_scale(name, v); });
   }
   /// UsageError naming scale option `name` and `v` unless v is in
   /// (0, kLargestScale].
@@ -525,12 +516,22 @@ struct RecognitionOptions {
   /// error.
   static std::vector<double> bounded_list(const Options& o, const std::string& name, double fallback, double min,
                                           bool open_min, double max, const std::string& unit = "") {
+    return number_list(o, name, fallback, [&](const std::string& item, double v) {
+      check_bounds(name, item, v, min, open_min, max, unit);
+    });
+  }
+  /// The values of option `name` (comma-separated; `fallback` when absent),
+  /// each parsed as a number and given to `check(item as written, value)`,
+  /// which throws for a value out of range; a value listed twice is an
+  /// error. What bounded_list and scale_list share.
+  template <typename Check>
+  static std::vector<double> number_list(const Options& o, const std::string& name, double fallback, Check&& check) {
     if (!o.has(name)) return {fallback};
     std::vector<double> out;
     for (const auto& item : Options::split(o.string(name), ',')) {
       const double v = Options::parse_number(item, "--" + name, -std::numeric_limits<double>::infinity(),
                                              std::numeric_limits<double>::infinity());
-      check_bounds(name, item, v, min, open_min, max, unit);
+      check(item, v);
       if (std::find(out.begin(), out.end(), v) != out.end()) throw UsageError("--" + name + " lists " + item + " twice");
       out.push_back(v);
     }
