@@ -7,6 +7,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "iclap/core/random.hpp"
@@ -311,6 +312,153 @@ TEST_CASE("occupancy: the slab behind the pad (back_depth) contradicts a touch p
   CHECK(error_of([&] { backed.distances(no_normals, d1); }).find("test.normals") == 0);
   CHECK(error_of([&] { backed.prepare_pool(no_normals); }).find("pool.normals") == 0);
   plain.distances(no_normals, d0);
+}
+
+namespace {
+
+/// Touches of a tilted 14 x 6 pad at random heights in [z0, z1] metres,
+/// random pad normals up to 60 degrees from straight down, and random
+/// taxels pressed: points of every kind on both sides of any height.
+TouchSet random_pad_touches(Rng& rng, Index n, double z0, double z1) {
+  TouchSet s;
+  s.positions.resize(3, n);
+  s.normals.resize(3, n);
+  std::vector<Eigen::Vector3d> pressed, free;
+  s.contact_offsets = {0};
+  s.free_offsets = {0};
+  for (Index i = 0; i < n; ++i) {
+    const Eigen::Vector3d centre(rng.uniform(-0.02, 0.02), rng.uniform(-0.02, 0.02), rng.uniform(z0, z1));
+    const double tilt = rng.uniform(0, kPi / 3), heading = rng.uniform(-kPi, kPi);
+    const Eigen::Vector3d normal(std::sin(tilt) * std::cos(heading), std::sin(tilt) * std::sin(heading), -std::cos(tilt));
+    const Eigen::Vector3d u = normal.unitOrthogonal(), v = normal.cross(u);
+    s.positions.col(i) = centre;
+    s.normals.col(i) = normal;
+    for (int r = 0; r < 14; ++r)
+      for (int k = 0; k < 6; ++k) {
+        const Eigen::Vector3d p = centre + (r - 6.5) * kPitch * u + (k - 2.5) * kPitch * v;
+        (rng.uniform() < 0.3 ? pressed : free).push_back(p);
+      }
+    s.contact_offsets.push_back(static_cast<Index>(pressed.size()));
+    s.free_offsets.push_back(static_cast<Index>(free.size()));
+  }
+  s.contact_points.resize(3, static_cast<Index>(pressed.size()));
+  for (std::size_t k = 0; k < pressed.size(); ++k) s.contact_points.col(static_cast<Index>(k)) = pressed[k];
+  s.free_points.resize(3, static_cast<Index>(free.size()));
+  for (std::size_t k = 0; k < free.size(); ++k) s.free_points.col(static_cast<Index>(k)) = free[k];
+  return s;
+}
+
+/// The classifier's distances written out from its documentation with
+/// TruncatedDistanceField alone, for the identity placement (c must search
+/// only that one), in the classifier's order of summation: every contact
+/// point's truncated squared distance plus a contradiction where free
+/// evidence is nearer, and a contradiction for every free point and every
+/// slab point (taxels moved back along the pad normal to each layer)
+/// nearer felt surface than free evidence. `charged` counts the
+/// contradictions of free and slab points.
+Eigen::VectorXd formula_distances(const OccupancyClassifier& c, const std::vector<TouchSet>& objects,
+                                  const TouchSet& test, Index& charged) {
+  const std::vector<double> layers = c.back_layers();
+  // Calls f on the slab points of touch i of s, for every layer.
+  auto slab = [&](const TouchSet& s, Index i, const std::function<void(const Eigen::Vector3d&)>& f) {
+    const auto u = static_cast<std::size_t>(i);
+    for (const double d : layers) {
+      for (Index k = s.contact_offsets[u]; k < s.contact_offsets[u + 1]; ++k) f(s.contact_points.col(k) - d * s.normals.col(i));
+      for (Index k = s.free_offsets[u]; k < s.free_offsets[u + 1]; ++k) f(s.free_points.col(k) - d * s.normals.col(i));
+    }
+  };
+  const auto cap = static_cast<float>(c.truncation * c.truncation);
+  const auto rho2 = static_cast<float>(c.free_radius * c.free_radius);
+  const double penalty = c.conflict_weight * static_cast<double>(cap);
+  Eigen::VectorXd out(static_cast<Index>(objects.size()));
+  charged = 0;
+  for (std::size_t j = 0; j < objects.size(); ++j) {
+    const TouchSet& o = objects[j];
+    std::vector<Eigen::Vector3d> f;
+    for (Index k = 0; k < o.free_points.cols(); ++k) f.push_back(o.free_points.col(k));
+    for (Index i = 0; i < o.size(); ++i) slab(o, i, [&](const Eigen::Vector3d& q) { f.push_back(q); });
+    Eigen::Matrix3Xd fm(3, static_cast<Index>(f.size()));
+    for (std::size_t k = 0; k < f.size(); ++k) fm.col(static_cast<Index>(k)) = f[k];
+    const TruncatedDistanceField occupied(o.contact_points, {c.voxel, c.truncation});
+    const TruncatedDistanceField freed(fm, {c.voxel, c.free_radius});
+    double e = 0;
+    for (Index i = 0; i < test.size(); ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      double cost = 0;
+      for (Index k = test.contact_offsets[u]; k < test.contact_offsets[u + 1]; ++k) {
+        const Eigen::Vector3d q = test.contact_points.col(k);
+        const float dn = occupied.squared_distance(q), df = freed.squared_distance(q);
+        cost += static_cast<double>(dn);
+        if (df < dn && df < rho2) cost += penalty;
+      }
+      auto free_point = [&](const Eigen::Vector3d& q) {
+        const float dn = occupied.node_squared_distance(q);
+        if (dn < rho2 && dn < freed.node_squared_distance(q)) {
+          cost += penalty;
+          ++charged;
+        }
+      };
+      for (Index k = test.free_offsets[u]; k < test.free_offsets[u + 1]; ++k) free_point(test.free_points.col(k));
+      slab(test, i, free_point);
+      e += cost;
+    }
+    out(static_cast<Index>(j)) = e;
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("occupancy: the distances are the formula's, point by point, slab and free points included") {
+  // The classifier skips the free and slab points that lie too high or too
+  // low to be charged under any placement; these tests reach from below
+  // the objects' felt surface to well above it, so that many of them are
+  // skipped and many charged.
+  auto classifier = [](double back) {
+    OccupancyClassifier c;
+    c.placements.max_shift = 0;
+    c.placements.max_yaw = 0;
+    c.back_depth = back;
+    return c;
+  };
+  Rng rng(2018);
+  const std::vector<TouchSet> objects = {random_pad_touches(rng, 30, 0.020, 0.030),
+                                         random_pad_touches(rng, 30, 0.026, 0.034)};
+  for (const double back : {0.0, 0.006}) {
+    CAPTURE(back);
+    OccupancyClassifier c = classifier(back);
+    c.fit(objects, 0);
+    REQUIRE(c.placement_count() == 1);
+    const TouchSet test = random_pad_touches(rng, 40, 0.012, 0.045);
+    Eigen::VectorXd got(2);
+    c.distances(test, got);
+    Index charged = 0;
+    const Eigen::VectorXd want = formula_distances(c, objects, test, charged);
+    CHECK(got(0) == want(0));
+    CHECK(got(1) == want(1));
+    CHECK(charged > 100);
+  }
+  // At the edge of the skipped heights: every taxel of a flat pad pressed
+  // at 30.2 (30.1) mm, and a test whose free taxels lie right above them
+  // at 32.3 (32.45) mm, 0.1 (0.35) voxels more than the free radius (2 mm)
+  // above the felt surface. Their nearest lattice nodes are at 32 mm, 1.8
+  // (1.9) mm above it, so they are charged, each where its node is close
+  // enough to a pressed taxel: a point may be skipped only beyond free
+  // radius + half a voxel.
+  for (const auto& [felt, z] : std::vector<std::pair<double, double>>{{0.0302, 0.0323}, {0.0301, 0.03245}}) {
+    CAPTURE(z);
+    const std::vector<TouchSet> flat = {pad_touches(Box{0.2, 0.2, felt}, {{0.0, 0.0}})};
+    OccupancyClassifier c = classifier(0);
+    c.fit(flat, 0);
+    const TouchSet test = pad_touches(Box{0.004, 0.004, z}, {{0.0, 0.0}});  // 2 x 2 taxels pressed
+    REQUIRE(test.free_points.cols() == 80);
+    Eigen::VectorXd got(1);
+    c.distances(test, got);
+    Index charged = 0;
+    const Eigen::VectorXd want = formula_distances(c, flat, test, charged);
+    CHECK(charged >= 10);
+    CHECK(got(0) == want(0));
+  }
 }
 
 TEST_CASE("occupancy: a test re-placed within the placement bounds is found, beyond them it is not") {
