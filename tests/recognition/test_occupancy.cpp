@@ -445,7 +445,8 @@ TEST_CASE("occupancy: the distances are the formula's, point by point, slab and 
   // (1.9) mm above it, so they are charged, each where its node is close
   // enough to a pressed taxel: a point may be skipped only beyond free
   // radius + half a voxel.
-  for (const auto& [felt, z] : std::vector<std::pair<double, double>>{{0.0302, 0.0323}, {0.0301, 0.03245}}) {
+  for (const auto& edge : std::vector<std::pair<double, double>>{{0.0302, 0.0323}, {0.0301, 0.03245}}) {
+    const double felt = edge.first, z = edge.second;  // not a structured binding: CAPTURE's lambda captures z
     CAPTURE(z);
     const std::vector<TouchSet> flat = {pad_touches(Box{0.2, 0.2, felt}, {{0.0, 0.0}})};
     OccupancyClassifier c = classifier(0);
