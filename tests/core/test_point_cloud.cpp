@@ -234,3 +234,89 @@ TEST_CASE("a cloud of run-time dimension registers with Eigen::Dynamic") {
   const Rows four{{{0, 0, 0, 0}}, 4};
   CHECK_THROWS_AS(icp.align(reference, four), iclap::DimensionMismatch);
 }
+
+namespace {
+
+// The argument an iclap error names, or "" when f throws nothing.
+template <typename F>
+std::string argument_of(F&& f) {
+  try {
+    f();
+  } catch (const iclap::InvalidArgument& e) {
+    return e.argument();
+  }
+  return "";
+}
+
+// Queries around the model touches: the neighbours the searches must agree on.
+Eigen::Matrix4Xd queries() {
+  Eigen::Matrix4Xd q(4, 60);
+  for (int i = 0; i < 60; ++i)
+    q.col(i) << 0.0033 * i - 0.01, 0.012 * std::cos(0.7 * i), 0.001 * (i % 5), 0.5 * (i % 7);
+  return q;
+}
+
+// `Search` built from the user's touches and from a matrix of the same
+// values (as Scalar) answers every query alike: the same neighbour at the
+// same squared distance.
+template <typename Search, typename Scalar, typename Cloud>
+void check_same_search(const Cloud& cloud, const typename Search::CloudType& matrix) {
+  const Search own(cloud), mine(matrix);
+  REQUIRE(own.size() == mine.size());
+  const Eigen::Matrix4Xd q = queries();
+  for (Eigen::Index i = 0; i < q.cols(); ++i) {
+    const Eigen::Matrix<Scalar, 4, 1> p = q.col(i).cast<Scalar>();
+    const auto a = own.nearest(p.data()), b = mine.nearest(p.data());
+    CHECK(a.index == b.index);
+    CHECK(a.squared_distance == b.squared_distance);
+  }
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("the searches take a user's cloud and answer as for a matrix of the same values", Scalar, float,
+                   double) {
+  const Touches t = model_touches();
+  const iclap::Cloud<Scalar, 4> fixed = as_matrix(t).cast<Scalar>();
+  const iclap::Cloud<Scalar, Eigen::Dynamic> dynamic = fixed;
+  check_same_search<iclap::KdTreeSearch<Scalar, 4>, Scalar>(t, fixed);
+  check_same_search<iclap::BruteForceSearch<Scalar, 4>, Scalar>(t, fixed);
+  check_same_search<iclap::AdaptiveSearch<Scalar, 4>, Scalar>(t, fixed);
+  check_same_search<iclap::KdTreeSearch<Scalar, Eigen::Dynamic>, Scalar>(t, dynamic);
+  check_same_search<iclap::BruteForceSearch<Scalar, Eigen::Dynamic>, Scalar>(t, dynamic);
+  check_same_search<iclap::AdaptiveSearch<Scalar, Eigen::Dynamic>, Scalar>(t, dynamic);
+  // Refused, naming the points: another dimension, a NaN, no point.
+  using Kd = iclap::KdTreeSearch<Scalar, 3>;
+  using Brute = iclap::BruteForceSearch<Scalar, 4>;
+  using Adaptive = iclap::AdaptiveSearch<Scalar, 4>;
+  CHECK_THROWS_AS(Kd{t}, iclap::DimensionMismatch);
+  CHECK(argument_of([&] { Kd{t}; }) == "points");
+  Touches bad = t;
+  bad[3].position.z() = std::numeric_limits<float>::infinity();
+  CHECK_THROWS_AS(Brute{bad}, iclap::NonFiniteValue);
+  CHECK(argument_of([&] { Brute{bad}; }) == "points");
+  CHECK_THROWS_AS(Adaptive{Touches{}}, iclap::EmptyInput);
+  CHECK(argument_of([&] { Adaptive{Touches{}}; }) == "points");
+}
+
+TEST_CASE("a distance field takes a user's 3-D cloud and samples the field of a matrix of the same values") {
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 40; ++i) points.emplace_back(0.001 * i, 0.004 * std::sin(0.3 * i), 0.0005 * (i % 6));
+  Eigen::Matrix3Xd matrix(3, 40);
+  for (int i = 0; i < 40; ++i) matrix.col(i) = points[static_cast<std::size_t>(i)];
+  const iclap::DistanceFieldSettings settings{1e-3, 3e-3};
+  const iclap::TruncatedDistanceField own(points, settings), mine(matrix, settings);
+  iclap::Index near = 0;
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Vector3d q(0.0002 * i - 0.002, 0.003 * std::cos(0.11 * i), 0.0001 * (i % 30));
+    CHECK(own.squared_distance(q) == mine.squared_distance(q));
+    CHECK(own.node_squared_distance(q) == mine.node_squared_distance(q));
+    near += own.squared_distance(q) < own.cap();
+  }
+  CHECK(near > 100);  // most queries lie within the truncation
+  // Another dimension is refused, naming the given argument.
+  const Touches t = model_touches();
+  CHECK_THROWS_AS(iclap::TruncatedDistanceField(t, settings, "objects[2].occupied"), iclap::DimensionMismatch);
+  CHECK(argument_of([&] { iclap::TruncatedDistanceField(t, settings, "objects[2].occupied"); }) ==
+        "objects[2].occupied");
+}

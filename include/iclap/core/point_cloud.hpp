@@ -20,8 +20,10 @@ namespace iclap {
 /// How the library reads a point container of yours. The registration works
 /// on `Cloud<Scalar, Dim>` (one point per column); a cloud of another type
 /// (a `std::vector` of your touch records, a PCL cloud) can be given
-/// wherever a ReferenceCloud or Icp::align takes points, or turned into a
-/// `Cloud` with `to_cloud`, once `PointCloudTraits<YourCloud>` is
+/// wherever a ReferenceCloud or Icp::align takes points, to the searches
+/// (KdTreeSearch, BruteForceSearch, AdaptiveSearch) and to a
+/// TruncatedDistanceField, or turned into a `Cloud` with `to_cloud`, once
+/// `PointCloudTraits<YourCloud>` is
 /// specialised with three static functions:
 ///
 ///     template <> struct iclap::PointCloudTraits<std::vector<Touch>> {

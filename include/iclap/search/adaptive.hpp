@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "iclap/core/check.hpp"
+#include "iclap/core/point_cloud.hpp"
 #include "iclap/core/types.hpp"
 #include "iclap/search/brute_force.hpp"
 #include "iclap/search/kdtree.hpp"
@@ -64,6 +65,14 @@ class AdaptiveSearch {
       tree_ = true;
     }
   }
+
+  /// A cloud of your own type (a PointCloudTraits specialisation, see
+  /// iclap/core/point_cloud.hpp), read once as `to_cloud<Scalar, Dim>` reads
+  /// it: the search of a matrix of the same values. Throws what to_cloud
+  /// throws, naming `points`, then as the matrix constructor.
+  template <typename C, typename = std::enable_if_t<is_point_cloud_v<C>>>
+  explicit AdaptiveSearch(const C& points, const Settings& settings = {})
+      : AdaptiveSearch(to_cloud<Scalar, Dim>(points, "points"), settings) {}
 
   /// True when the cloud is searched through a kd-tree.
   bool uses_tree() const noexcept { return tree_; }

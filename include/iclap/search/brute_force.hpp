@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "iclap/core/check.hpp"
+#include "iclap/core/point_cloud.hpp"
 #include "iclap/core/types.hpp"
 #include "iclap/search/neighbor.hpp"
 #include "iclap/search/shared_cloud.hpp"
@@ -87,6 +88,17 @@ inline constexpr int block_width = 32 / static_cast<int>(sizeof(Scalar));
 /// wins ties; the lanes are then combined with `closer`, which gives the
 /// shared tie rule overall. A NaN distance never wins. Inlined into the
 /// baseline and the AVX2 entry points below, which compile it for their ISA.
+// With a run-time dimension, the unrolled loops over the query's
+// coordinates hold copies for up to 8 of them; inlined into a caller whose
+// query is a fixed-size vector of fewer (a Vector4f for a 4-D cloud of
+// Eigen::Dynamic), GCC warns that the copies that never run read past it
+// (-Warray-bounds, a false positive: the loops stop at the cloud's
+// dimension, the length nearest() requires of its query). Kept quiet here,
+// for this function only; the sanitizers still see every read.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Warray-bounds"
+#endif
 template <int Bytes, int Dim, typename Scalar>
 __attribute__((always_inline)) inline void nearest_in_blocks(const Scalar* blocks, Index count, Index dim,
                                                              const Scalar* query, Scalar& best_distance,
@@ -152,6 +164,10 @@ __attribute__((always_inline)) inline void nearest_in_blocks(const Scalar* block
       }
     }
 }
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 
 #undef ICLAP_UNROLL
 
@@ -248,6 +264,14 @@ class BruteForceSearch
 #endif
     block_ = std::make_shared<const detail::ScanBlock<Scalar, Dim>>(std::move(points), settings.use_avx2);
   }
+
+  /// A cloud of your own type (a PointCloudTraits specialisation, see
+  /// iclap/core/point_cloud.hpp), read once as `to_cloud<Scalar, Dim>` reads
+  /// it: the search of a matrix of the same values. Throws what to_cloud
+  /// throws, naming `points`, then as the matrix constructor.
+  template <typename C, typename = std::enable_if_t<is_point_cloud_v<C>>>
+  explicit BruteForceSearch(const C& points, const Settings& settings = {})
+      : BruteForceSearch(to_cloud<Scalar, Dim>(points, "points"), settings) {}
 
   /// The closest point to `query` (length `dim()`), ties to the smaller index.
   /// A default-constructed search has no points: index -1, infinite distance.

@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "iclap/core/check.hpp"
+#include "iclap/core/point_cloud.hpp"
 #include "iclap/core/error.hpp"
 #include "iclap/core/types.hpp"
 
@@ -135,6 +136,15 @@ class TruncatedDistanceField {
       }
     }
   }
+
+  /// A cloud of your own type (a PointCloudTraits specialisation of
+  /// dimension 3, see iclap/core/point_cloud.hpp), read once as
+  /// `to_cloud<double, 3>` reads it: the field of a matrix of the same
+  /// values. Throws what to_cloud throws, naming `argument`, then as the
+  /// matrix constructor.
+  template <typename C, typename = std::enable_if_t<is_point_cloud_v<C>>>
+  explicit TruncatedDistanceField(const C& points, const Settings& settings = {}, const std::string& argument = "points")
+      : TruncatedDistanceField(to_cloud<double, 3>(points, argument), settings, argument) {}
 
   /// Throws InvalidArgument naming the first setting out of range.
   static void validate(const Settings& s) {

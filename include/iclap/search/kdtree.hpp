@@ -10,6 +10,7 @@
 #include <nanoflann.hpp>
 
 #include "iclap/core/check.hpp"
+#include "iclap/core/point_cloud.hpp"
 #include "iclap/core/types.hpp"
 #include "iclap/search/neighbor.hpp"
 #include "iclap/search/shared_cloud.hpp"
@@ -141,6 +142,14 @@ class KdTreeSearch
       throw InvalidArgument("settings.leaf_max_size", "must be at least 1");
     block_ = std::make_shared<const detail::KdTreeBlock<Scalar, Dim>>(std::move(points), settings.leaf_max_size);
   }
+
+  /// A cloud of your own type (a PointCloudTraits specialisation, see
+  /// iclap/core/point_cloud.hpp), read once as `to_cloud<Scalar, Dim>` reads
+  /// it: the search of a matrix of the same values. Throws what to_cloud
+  /// throws, naming `points`, then as the matrix constructor.
+  template <typename C, typename = std::enable_if_t<is_point_cloud_v<C>>>
+  explicit KdTreeSearch(const C& points, const Settings& settings = {})
+      : KdTreeSearch(to_cloud<Scalar, Dim>(points, "points"), settings) {}
 
   /// The closest point to `query` (length `dim()`), ties to the smaller index.
   Neighbor<Scalar> nearest(const Scalar* query) const { return nearest(query, Index(-1)); }
