@@ -33,26 +33,31 @@ struct Box {
   }
 };
 
-/// Touches of a 14 x 6 pad pressing straight down on the top face of `box`
-/// with its centre at each of `centres` (x, y): a taxel over the box is
-/// pressed (a contact point), the others are free points, all at the top's
-/// height. The pad's rows run along world x, its columns along world y.
-TouchSet pad_touches(const Box& box, const std::vector<Eigen::Vector2d>& centres) {
+/// A 14 x 6 pad's frame: its centre, its normal (into the surface) and
+/// the directions of its rows (u) and columns (v).
+struct PadFrame {
+  Eigen::Vector3d centre, normal, u, v;
+};
+
+/// Touches of a 14 x 6 pad at `frame(i)` for i < n; a taxel p is pressed (a
+/// contact point) where `pressed(p)`, else free. Calls frame once per touch,
+/// then pressed once per taxel, rows first.
+template <typename Frame, typename Pressed>
+TouchSet pads(Index n, Frame&& frame, Pressed&& pressed_at) {
   TouchSet s;
-  const auto n = static_cast<Index>(centres.size());
   s.positions.resize(3, n);
   s.normals.resize(3, n);
   std::vector<Eigen::Vector3d> pressed, free;
   s.contact_offsets = {0};
   s.free_offsets = {0};
   for (Index i = 0; i < n; ++i) {
-    const Eigen::Vector2d& c = centres[static_cast<std::size_t>(i)];
-    s.positions.col(i) = Eigen::Vector3d(c.x(), c.y(), box.height);
-    s.normals.col(i) = Eigen::Vector3d(0, 0, -1);
+    const PadFrame f = frame(i);
+    s.positions.col(i) = f.centre;
+    s.normals.col(i) = f.normal;
     for (int r = 0; r < 14; ++r)
       for (int k = 0; k < 6; ++k) {
-        const Eigen::Vector3d p(c.x() + (r - 6.5) * kPitch, c.y() + (k - 2.5) * kPitch, box.height);
-        (box.over(p.x(), p.y()) ? pressed : free).push_back(p);
+        const Eigen::Vector3d p = f.centre + (r - 6.5) * kPitch * f.u + (k - 2.5) * kPitch * f.v;
+        (pressed_at(p) ? pressed : free).push_back(p);
       }
     s.contact_offsets.push_back(static_cast<Index>(pressed.size()));
     s.free_offsets.push_back(static_cast<Index>(free.size()));
@@ -62,6 +67,21 @@ TouchSet pad_touches(const Box& box, const std::vector<Eigen::Vector2d>& centres
   s.free_points.resize(3, static_cast<Index>(free.size()));
   for (std::size_t k = 0; k < free.size(); ++k) s.free_points.col(static_cast<Index>(k)) = free[k];
   return s;
+}
+
+/// Touches of a 14 x 6 pad pressing straight down on the top face of `box`
+/// with its centre at each of `centres` (x, y): a taxel over the box is
+/// pressed (a contact point), the others are free points, all at the top's
+/// height. The pad's rows run along world x, its columns along world y.
+TouchSet pad_touches(const Box& box, const std::vector<Eigen::Vector2d>& centres) {
+  return pads(
+      static_cast<Index>(centres.size()),
+      [&](Index i) {
+        const Eigen::Vector2d& c = centres[static_cast<std::size_t>(i)];
+        return PadFrame{Eigen::Vector3d(c.x(), c.y(), box.height), Eigen::Vector3d(0, 0, -1), Eigen::Vector3d::UnitX(),
+                        Eigen::Vector3d::UnitY()};
+      },
+      [&](const Eigen::Vector3d& p) { return box.over(p.x(), p.y()); });
 }
 
 /// Pad centres on a grid over [x0, x1] x [y0, y1], `step` apart.
@@ -320,32 +340,17 @@ namespace {
 /// random pad normals up to 60 degrees from straight down, and random
 /// taxels pressed: points of every kind on both sides of any height.
 TouchSet random_pad_touches(Rng& rng, Index n, double z0, double z1) {
-  TouchSet s;
-  s.positions.resize(3, n);
-  s.normals.resize(3, n);
-  std::vector<Eigen::Vector3d> pressed, free;
-  s.contact_offsets = {0};
-  s.free_offsets = {0};
-  for (Index i = 0; i < n; ++i) {
-    const Eigen::Vector3d centre(rng.uniform(-0.02, 0.02), rng.uniform(-0.02, 0.02), rng.uniform(z0, z1));
-    const double tilt = rng.uniform(0, kPi / 3), heading = rng.uniform(-kPi, kPi);
-    const Eigen::Vector3d normal(std::sin(tilt) * std::cos(heading), std::sin(tilt) * std::sin(heading), -std::cos(tilt));
-    const Eigen::Vector3d u = normal.unitOrthogonal(), v = normal.cross(u);
-    s.positions.col(i) = centre;
-    s.normals.col(i) = normal;
-    for (int r = 0; r < 14; ++r)
-      for (int k = 0; k < 6; ++k) {
-        const Eigen::Vector3d p = centre + (r - 6.5) * kPitch * u + (k - 2.5) * kPitch * v;
-        (rng.uniform() < 0.3 ? pressed : free).push_back(p);
-      }
-    s.contact_offsets.push_back(static_cast<Index>(pressed.size()));
-    s.free_offsets.push_back(static_cast<Index>(free.size()));
-  }
-  s.contact_points.resize(3, static_cast<Index>(pressed.size()));
-  for (std::size_t k = 0; k < pressed.size(); ++k) s.contact_points.col(static_cast<Index>(k)) = pressed[k];
-  s.free_points.resize(3, static_cast<Index>(free.size()));
-  for (std::size_t k = 0; k < free.size(); ++k) s.free_points.col(static_cast<Index>(k)) = free[k];
-  return s;
+  return pads(
+      n,
+      [&](Index) {
+        const Eigen::Vector3d centre(rng.uniform(-0.02, 0.02), rng.uniform(-0.02, 0.02), rng.uniform(z0, z1));
+        const double tilt = rng.uniform(0, kPi / 3), heading = rng.uniform(-kPi, kPi);
+        const Eigen::Vector3d normal(std::sin(tilt) * std::cos(heading), std::sin(tilt) * std::sin(heading),
+                                     -std::cos(tilt));
+        const Eigen::Vector3d u = normal.unitOrthogonal();
+        return PadFrame{centre, normal, u, normal.cross(u)};
+      },
+      [&](const Eigen::Vector3d&) { return rng.uniform() < 0.3; });
 }
 
 /// The classifier's distances written out from its documentation with
