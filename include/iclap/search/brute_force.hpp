@@ -74,6 +74,18 @@ struct Lanes<double, 32> {
 template <typename Scalar>
 inline constexpr int block_width = 32 / static_cast<int>(sizeof(Scalar));
 
+// With a run-time dimension, the unrolled loops over the query's
+// coordinates hold copies for up to 8 of them; inlined into a caller whose
+// query is a fixed-size vector of fewer (a Vector4f for a 4-D cloud of
+// Eigen::Dynamic), GCC warns that the copies that never run read past it
+// (-Warray-bounds, a false positive: the loops stop at the cloud's
+// dimension, the length nearest() requires of its query). Kept quiet here,
+// for this function only; the sanitizers still see every read.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Warray-bounds"
+#endif
+
 /// The nearest of the points stored in `blocks` (`count` blocks of
 /// block_width points; block b holds coordinate i of its points at
 /// blocks[(b * dim + i) * block_width + lane], unused lanes +infinity),
@@ -88,17 +100,6 @@ inline constexpr int block_width = 32 / static_cast<int>(sizeof(Scalar));
 /// wins ties; the lanes are then combined with `closer`, which gives the
 /// shared tie rule overall. A NaN distance never wins. Inlined into the
 /// baseline and the AVX2 entry points below, which compile it for their ISA.
-// With a run-time dimension, the unrolled loops over the query's
-// coordinates hold copies for up to 8 of them; inlined into a caller whose
-// query is a fixed-size vector of fewer (a Vector4f for a 4-D cloud of
-// Eigen::Dynamic), GCC warns that the copies that never run read past it
-// (-Warray-bounds, a false positive: the loops stop at the cloud's
-// dimension, the length nearest() requires of its query). Kept quiet here,
-// for this function only; the sanitizers still see every read.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Warray-bounds"
-#endif
 template <int Bytes, int Dim, typename Scalar>
 __attribute__((always_inline)) inline void nearest_in_blocks(const Scalar* blocks, Index count, Index dim,
                                                              const Scalar* query, Scalar& best_distance,
