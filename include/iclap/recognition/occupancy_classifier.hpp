@@ -143,7 +143,9 @@ struct OccupancyEvidence {
 ///
 /// Costs O(placements x objects x taxels per touch) field lookups per test
 /// touch (105 placements by default; about 1.8 M lookups for 20 touches
-/// against 20 objects of the 14 x 6 pad). The fields take memory in
+/// against 20 objects of the 14 x 6 pad, at most: free and slab points
+/// lying too far above or below all of an object's felt surface to be
+/// charged are dropped once per touch). The fields take memory in
 /// proportion to the surface the evidence covers (TruncatedDistanceField).
 /// `distances` is const and thread-safe.
 class OccupancyClassifier final : public Classifier {
