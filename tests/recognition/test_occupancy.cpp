@@ -84,6 +84,16 @@ TouchSet pad_touches(const Box& box, const std::vector<Eigen::Vector2d>& centres
       [&](const Eigen::Vector3d& p) { return box.over(p.x(), p.y()); });
 }
 
+/// An occupancy classifier that searches the identity placement only, with
+/// a slab `back` metres deep behind the pad.
+OccupancyClassifier one_placement(double back) {
+  OccupancyClassifier c;
+  c.placements.max_shift = 0;
+  c.placements.max_yaw = 0;
+  c.back_depth = back;
+  return c;
+}
+
 /// Pad centres on a grid over [x0, x1] x [y0, y1], `step` apart.
 std::vector<Eigen::Vector2d> grid_of(double x0, double x1, double y0, double y1, double step) {
   std::vector<Eigen::Vector2d> out;
@@ -264,14 +274,7 @@ TEST_CASE("occupancy: the slab behind the pad (back_depth) contradicts a touch p
   const std::vector<TouchSet> objects = {pad_touches(low, centres), pad_touches(high, centres)};
   const TouchSet test = pad_touches(high, {{0.0, 0.0}});  // all 84 taxels pressed, on the tall top
   REQUIRE(test.contact_points.cols() == 84);
-  auto classifier = [](double back) {
-    OccupancyClassifier c;
-    c.placements.max_shift = 0;
-    c.placements.max_yaw = 0;
-    c.back_depth = back;
-    return c;
-  };
-  OccupancyClassifier plain = classifier(0), backed = classifier(0.006);
+  OccupancyClassifier plain = one_placement(0), backed = one_placement(0.006);
   CHECK(plain.back_layers().empty());
   CHECK(backed.back_layers() == std::vector<double>{0.003, 0.006});
   plain.fit(objects, 0);
@@ -323,7 +326,7 @@ TEST_CASE("occupancy: the slab behind the pad (back_depth) contradicts a touch p
   // The slab needs the pad normals, of the training touches and of a test.
   std::vector<TouchSet> bare = objects;
   bare[1].normals.resize(3, 0);
-  backed = classifier(0.006);
+  backed = one_placement(0.006);
   CHECK(error_of([&] { backed.fit(bare, 0); }).find("objects[1].normals") == 0);
   plain.fit(bare, 0);  // without the slab they are not read
   backed.fit(objects, 0);
@@ -419,19 +422,12 @@ TEST_CASE("occupancy: the distances are the formula's, point by point, slab and 
   // low to be charged under any placement; these tests reach from below
   // the objects' felt surface to well above it, so that many of them are
   // skipped and many charged.
-  auto classifier = [](double back) {
-    OccupancyClassifier c;
-    c.placements.max_shift = 0;
-    c.placements.max_yaw = 0;
-    c.back_depth = back;
-    return c;
-  };
   Rng rng(2018);
   const std::vector<TouchSet> objects = {random_pad_touches(rng, 30, 0.020, 0.030),
                                          random_pad_touches(rng, 30, 0.026, 0.034)};
   for (const double back : {0.0, 0.006}) {
     CAPTURE(back);
-    OccupancyClassifier c = classifier(back);
+    OccupancyClassifier c = one_placement(back);
     c.fit(objects, 0);
     REQUIRE(c.placement_count() == 1);
     const TouchSet test = random_pad_touches(rng, 40, 0.012, 0.045);
@@ -454,7 +450,7 @@ TEST_CASE("occupancy: the distances are the formula's, point by point, slab and 
     const double felt = edge.first, z = edge.second;  // not a structured binding: CAPTURE's lambda captures z
     CAPTURE(z);
     const std::vector<TouchSet> flat = {pad_touches(Box{0.2, 0.2, felt}, {{0.0, 0.0}})};
-    OccupancyClassifier c = classifier(0);
+    OccupancyClassifier c = one_placement(0);
     c.fit(flat, 0);
     const TouchSet test = pad_touches(Box{0.004, 0.004, z}, {{0.0, 0.0}});  // 2 x 2 taxels pressed
     REQUIRE(test.free_points.cols() == 80);
