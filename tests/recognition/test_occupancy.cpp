@@ -463,6 +463,91 @@ TEST_CASE("occupancy: the distances are the formula's, point by point, slab and 
   }
 }
 
+/// One touch pressing straight down with the given contact points and one
+/// free point.
+TouchSet one_touch(const Eigen::Matrix3Xd& contacts, const Eigen::Vector3d& free) {
+  TouchSet t;
+  t.positions = contacts.col(0);
+  t.normals = Eigen::Vector3d(0, 0, -1);
+  t.contact_points = contacts;
+  t.contact_offsets = {0, contacts.cols()};
+  t.free_points = free;
+  t.free_offsets = {0, 1};
+  return t;
+}
+
+TEST_CASE("occupancy: a free point is charged up to the edge of the skipped distances across, under a placement") {
+  // The classifier also skips the free points too far across from the
+  // object to be charged under any placement: beyond the occupied points'
+  // radius about the turn centre + the largest shift + free radius + a
+  // voxel, or farther from their bounding box than the largest shift +
+  // the chord of the largest turn + free radius + a voxel. Each case
+  // below puts a free point at the edge: under the placement that fits the
+  // test's contact points best it lands 0.44 voxels beyond the free radius
+  // from the nearest felt point, at a lattice node 1.95 mm from it, so it
+  // is charged. The contradiction's charge:
+  OccupancyClassifier c;
+  const double z = 0.03, rho = c.free_radius;
+  const double penalty = c.conflict_weight * static_cast<double>(static_cast<float>(c.truncation * c.truncation));
+  const Eigen::Vector3d far(0, 0.2, z);  // a free point far from everything
+  OccupancyEvidence felt;
+  felt.turn_centre = Eigen::Vector2d::Zero();
+  // The free point p lands at q under the best placement; its charge is
+  // what it adds to the distance of the same touch with `far` instead.
+  auto check_charged = [&](const Eigen::Matrix3Xd& contacts, const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+    const TruncatedDistanceField field(felt.occupied, {c.voxel, c.truncation});
+    REQUIRE(field.node_squared_distance(q) < static_cast<float>(rho * rho));
+    REQUIRE((felt.occupied.colwise() - q).colwise().norm().minCoeff() > rho + 0.4 * c.voxel);
+    Eigen::VectorXd charged(1), uncharged(1);
+    c.distances(one_touch(contacts, p), charged);
+    c.distances(one_touch(contacts, far), uncharged);
+    CHECK(charged(0) == uncharged(0) + penalty);
+  };
+  SUBCASE("shifted: beyond the radius + shift + free radius") {
+    // Felt: five points on the x axis out to 2.05 mm. The test's contact
+    // points are those moved 4 mm along x, so the placement that shifts
+    // it back by 4 mm fits best; p is 8.49 mm from the centre, beyond
+    // radius + shift + free radius (8.05 mm) and beyond that + 0.3 voxels.
+    felt.occupied.resize(3, 5);
+    felt.occupied << -2.05e-3, -1e-3, 0, 1e-3, 2.05e-3, 0, 0, 0, 0, 0, z, z, z, z, z;
+    c.placements.max_shift = 4e-3;
+    c.placements.shift_step = 4e-3;
+    c.placements.max_yaw = 0;
+    c.fit_evidence({felt});
+    REQUIRE(c.placement_count() == 5);
+    Eigen::Matrix3Xd contacts = felt.occupied;
+    contacts.row(0).array() += 4e-3;
+    const Eigen::Vector3d p(8.49e-3, 0, z);
+    REQUIRE(p.head<2>().norm() > 2.05e-3 + 4e-3 + rho + 0.3 * c.voxel);
+    check_charged(contacts, p, p - Eigen::Vector3d(4e-3, 0, 0));
+    // One voxel farther out, p is skipped, and it could not have been charged.
+    Eigen::VectorXd beyond(1), uncharged(1);
+    c.distances(one_touch(contacts, p + Eigen::Vector3d(c.voxel, 0, 0)), beyond);
+    c.distances(one_touch(contacts, far), uncharged);
+    CHECK(beyond(0) == uncharged(0));
+  }
+  SUBCASE("turned: 11.8 mm across from the bounding box, which a 10 degree turn 65 mm out covers") {
+    // Felt: five points along y = 10 mm, 58 to 62.05 mm out. The test is
+    // those turned by -10 degrees about the centre, so the +10 degree
+    // placement fits best. p, 65.3 mm out, is 11.8 mm from the felt
+    // points' bounding box: beyond free radius + a voxel, within the
+    // chord of 10 degrees at its distance (11.4 mm) + that.
+    felt.occupied.resize(3, 5);
+    felt.occupied << 58e-3, 59e-3, 60e-3, 61e-3, 62.05e-3, 10e-3, 10e-3, 10e-3, 10e-3, 10e-3, z, z, z, z, z;
+    c.placements.max_shift = 0;
+    c.placements.max_yaw = 10 * kPi / 180;
+    c.placements.yaw_step = 10 * kPi / 180;
+    c.fit_evidence({felt});
+    REQUIRE(c.placement_count() == 3);
+    const Eigen::Matrix3d back = Eigen::AngleAxisd(-10 * kPi / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Vector3d q(64.49e-3, 10e-3, z);
+    const Eigen::Vector3d p = back * q;
+    const Eigen::Vector2d gap(p.x() - 62.05e-3, 10e-3 - p.y());
+    REQUIRE(gap.norm() > 0.0115);
+    check_charged(back * felt.occupied, p, q);
+  }
+}
+
 TEST_CASE("occupancy: a test re-placed within the placement bounds is found, beyond them it is not") {
   OccupancyClassifier c;
   c.fit(training(), 0);

@@ -261,6 +261,9 @@ class OccupancyClassifier final : public Classifier {
       } else {
         r.centre = objects[j].occupied.topRows<2>().rowwise().mean();
       }
+      r.radius = (objects[j].occupied.topRows<2>().colwise() - r.centre).colwise().norm().maxCoeff();
+      r.xy_low = objects[j].occupied.topRows<2>().rowwise().minCoeff();
+      r.xy_high = objects[j].occupied.topRows<2>().rowwise().maxCoeff();
       refs.push_back(std::move(r));
     }
     grid_ = placements.grid("placements");
@@ -333,6 +336,8 @@ class OccupancyClassifier final : public Classifier {
     TruncatedDistanceField occupied, free;
     Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // the turns' vertical axis
     double z_low = 0, z_high = 0;                      // the occupied points' heights
+    double radius = 0;                                 // their largest horizontal distance from centre
+    Eigen::Vector2d xy_low, xy_high;                   // their horizontal bounding box
   };
   struct Fitted {
     double truncation = 0, free_radius = 0, conflict_weight = 0, unknown_cost = 1;
@@ -416,17 +421,40 @@ class OccupancyClassifier final : public Classifier {
     // most half a voxel away, so a point more than free radius + half a
     // voxel (a whole one here, against rounding) above or below every
     // occupied point is never charged under any placement: it is dropped
-    // once per touch, not tested under every placement. The charges, and
-    // the order they are summed in, are the same.
+    // once per touch, not tested under every placement. Likewise across:
+    // a placement turns p about the centre c by at most a and shifts it by
+    // at most s, so p lands at least |p - c| - s from c, and within
+    // s + 2 |p - c| sin(a / 2) of where it was. A point farther than the
+    // occupied points' radius + s + that reach from c, or farther from
+    // their bounding box than s + 2 |p - c| sin(a / 2) + that reach, is
+    // never charged either. The charges, and the order they are summed in,
+    // are the same.
     const double reach = fitted_.free_radius + r.occupied.voxel();
     const double z_min = r.z_low - reach, z_max = r.z_high + reach;
+    double max_shift = 0, max_turn = 0;
+    for (Index g = 0; g < G; ++g) {
+      max_shift = std::max(max_shift, grid_.col(g).head<2>().norm());
+      max_turn = std::max(max_turn, std::abs(grid_(2, g)));
+    }
+    const double out = r.radius + max_shift + reach, out2 = out * out;
+    const double chord = 2 * std::sin(std::min(max_turn, 3.14159265358979323846) / 2);
+    auto within_reach = [&](const Eigen::Vector3d& p) {
+      if (p.z() < z_min || p.z() > z_max) return false;
+      const Eigen::Vector2d d = p.head<2>() - r.centre;
+      const double d2 = d.squaredNorm();
+      if (d2 > out2) return false;
+      const Eigen::Vector2d gap =
+          (r.xy_low - p.head<2>()).cwiseMax(p.head<2>() - r.xy_high).cwiseMax(Eigen::Vector2d::Zero());
+      const double m = max_shift + chord * std::sqrt(d2) + reach;
+      return gap.squaredNorm() <= m * m;
+    };
     std::vector<Eigen::Vector3d> near;
     for (Index i = 0; i < n; ++i) {
       const auto ui = static_cast<std::size_t>(i);
       near.clear();
       if (conflicts) {
         auto keep = [&](const Eigen::Vector3d& p) {
-          if (p.z() >= z_min && p.z() <= z_max) near.push_back(p);
+          if (within_reach(p)) near.push_back(p);
         };
         for (Index k = s.free_offsets[ui]; k < s.free_offsets[ui + 1]; ++k) keep(s.free_points.col(k));
         for_back_points(s, i, fitted_.back_layers, keep);
