@@ -511,6 +511,64 @@ TEST_CASE("cross validation refuses what it cannot do") {
   CHECK_THROWS_AS(CrossValidation<>(wrong, only_bow, codebook(4), {parse_method("bow")}), NonFiniteValue);
 }
 
+TEST_CASE("cross validation: every fold, inner fold and object draws from a random stream of its own") {
+  using CV = CrossValidation<>;
+  // The streams the results files of this repository were drawn with.
+  CHECK(CV::draw_stream(0, -1, 0) == 0);
+  CHECK(CV::draw_stream(4, -1, 19) == ((std::uint64_t{4} << 40) ^ 19));
+  CHECK(CV::draw_stream(3, 2, 7) == ((std::uint64_t{3} << 40) ^ (std::uint64_t{3} << 32) ^ 7));
+  CHECK(CV::draw_stream(300, 254, 5) == ((std::uint64_t{300} << 40) ^ (std::uint64_t{255} << 32) ^ 5));
+  // Distinct for all of them, with 256 and more explorations per object
+  // too (inner + 1 >= 256 once packed into the fold's bits) and at the
+  // extremes: the fold limit and objects up to 2^31 - 1.
+  std::vector<std::uint64_t> streams;
+  const std::vector<int> folds = {0, 1, 2, 255, 256, 257, 299, CV::kMaxFolds - 1};
+  const std::vector<Index> objects = {0, 1, 2, 255, 256, (Index{1} << 31) - 1};
+  for (const int f : folds)
+    for (const int inner : {-1, 0, 1, 254, 255, 256, 298, 299, CV::kMaxFolds - 1})
+      for (const Index o : objects) streams.push_back(CV::draw_stream(f, inner, o));
+  for (int f = 0; f < 300; ++f)
+    for (int inner = -1; inner < 300; ++inner)
+      for (Index o = 0; o < 3; ++o) streams.push_back(CV::draw_stream(f, inner, o));
+  std::sort(streams.begin(), streams.end());
+  const std::size_t all = streams.size();
+  streams.erase(std::unique(streams.begin(), streams.end()), streams.end());
+  // Only the tuples listed twice (both loops) may repeat.
+  std::size_t twice = 0;
+  for (const int f : folds)
+    for (const int inner : {-1, 0, 1, 254, 255, 256, 298, 299, CV::kMaxFolds - 1})
+      for (const Index o : objects) twice += f < 300 && inner < 300 && o < 3;
+  CHECK(streams.size() == all - twice);
+  // An old collision: fold 0's inner fold 255 took fold 1's outer stream.
+  CHECK(CV::draw_stream(0, 255, 0) != CV::draw_stream(1, -1, 0));
+
+  // More folds than that are refused: each object's first touch as many
+  // one-touch explorations as there are streams, then one more.
+  const TouchTable t = synthetic_table(2);
+  auto only_bow = [] {
+    std::vector<std::unique_ptr<Classifier>> cs;
+    cs.push_back(std::make_unique<BowClassifier>());
+    return cs;
+  };
+  for (const int explorations : {CV::kMaxFolds, CV::kMaxFolds + 1}) {
+    CAPTURE(explorations);
+    std::vector<Index> rows;
+    for (Index o = 0; o < static_cast<Index>(t.objects.size()); ++o) {
+      const auto first = std::find(t.object.begin(), t.object.end(), o) - t.object.begin();
+      rows.insert(rows.end(), static_cast<std::size_t>(explorations), static_cast<Index>(first));
+    }
+    TouchTable many = t.select(rows);
+    for (std::size_t i = 0; i < many.exploration.size(); ++i)
+      many.exploration[i] = static_cast<std::int64_t>(i % static_cast<std::size_t>(explorations));
+    const std::string error = error_of([&] { CV(many, only_bow, codebook(4), {parse_method("bow")}); });
+    if (explorations == CV::kMaxFolds)
+      CHECK(error == "(no error)");
+    else
+      CHECK(error == "table | every object has at least 65536 explorations, which makes more folds than the 65535 "
+                     "whose test draws have random streams of their own");
+  }
+}
+
 TEST_CASE("weights chosen on inner folds need 3 explorations of every object, fixed weights 2") {
   const TouchTable full = synthetic_table(6);  // explorations 10..13
   std::vector<Index> rows;

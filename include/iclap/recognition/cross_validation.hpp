@@ -154,8 +154,8 @@ using ClassifierFactory = std::function<std::vector<std::unique_ptr<Classifier>>
 ///    method has no weight sweep.
 ///  - tests: `repeats` random subsets of each number of touches from the
 ///    held-out exploration of every object, drawn with Rng::derive(seed,
-///    fold/object stream, touches/repeat substream), so the draws do not
-///    depend on threads or order.
+///    draw_stream(fold, inner fold, object), touches << 20 ^ repeat), so
+///    the draws do not depend on threads or order.
 /// Every test set is registered once per classifier; all methods fuse those
 /// same distances. Runs `threads` workers; results are identical for any
 /// thread count. Keeps a reference to the touch table, which must outlive
@@ -211,6 +211,10 @@ class CrossValidation {
       folds_ = std::min(folds_, static_cast<int>(ids.size()));
       explorations_.push_back(ids);
     }
+    if (folds_ > kMaxFolds)
+      throw InvalidArgument("table", "every object has at least " + std::to_string(folds_) +
+                                         " explorations, which makes more folds than the " +
+                                         std::to_string(kMaxFolds) + " whose test draws have random streams of their own");
     // Classifiers the weight and candidate search needs (the only ones
     // computed on inner folds).
     std::vector<Fusion> searched;
@@ -225,6 +229,22 @@ class CrossValidation {
                   std::vector<Method> methods, CrossValidationSettings settings = {}) = delete;
 
   int folds() const noexcept { return folds_; }
+
+  /// The most folds: the random stream of a draw has 16 bits for the fold.
+  static constexpr int kMaxFolds = (1 << 16) - 1;
+
+  /// The random stream id of the test draws of `object` in fold `fold`
+  /// (from 0) and inner fold `inner` (-1 for the outer test), distinct for
+  /// every (fold, inner, object) with folds up to kMaxFolds and objects
+  /// below 2^31: fold << 40 ^ (inner + 1) << 32 ^ object while inner + 1
+  /// fits in 8 bits, else the top bit set and 16 bits each for the fold and
+  /// inner + 1 above the object's 31.
+  static std::uint64_t draw_stream(int fold, int inner, Index object) {
+    const auto f = static_cast<std::uint64_t>(fold), i = static_cast<std::uint64_t>(inner + 1),
+               o = static_cast<std::uint64_t>(object);
+    if (i < 256) return (f << 40) ^ (i << 32) ^ o;
+    return (std::uint64_t{1} << 63) | (f << 47) | (i << 31) | o;
+  }
 
   /// Runs every fold. `progress` gets (test sets done, test sets in all).
   CrossValidationResult run(const ProgressCallback& progress = {}) {
@@ -405,8 +425,7 @@ class CrossValidation {
       }
       for (std::size_t t = 0; t < settings_.touches.size(); ++t) {
         for (int r = 0; r < repeats; ++r) {
-          const std::uint64_t stream = (static_cast<std::uint64_t>(fold) << 40) ^
-                                       (static_cast<std::uint64_t>(inner + 1) << 32) ^ static_cast<std::uint64_t>(o);
+          const std::uint64_t stream = draw_stream(fold, inner, o);
           const std::uint64_t sub = (static_cast<std::uint64_t>(settings_.touches[t]) << 20) ^ static_cast<std::uint64_t>(r);
           Rng rng = Rng::derive(settings_.seed, stream, sub);
           std::vector<Index> p = pool;
