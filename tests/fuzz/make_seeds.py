@@ -83,3 +83,83 @@ text("dataset_csv", "partial_quaternion.csv", "object,exploration,frame,x,y,z,qw
 text("dataset_csv", "field_count.csv", "object,exploration,frame,x,y,z,p0_0\na,0,0,0,0,0\n")
 text("dataset_csv", "missing_column.csv", "object,frame,x,y,z,p0_0\na,0,0,0,0,1\n")
 text("dataset_csv", "float_frame.csv", "object,exploration,frame,x,y,z,p0_0\na,0,1.5,0,0,0,1\n")
+
+# --- mesh loaders and point files -----------------------------------------
+# The small fixtures of tests/fixtures (valid and malformed), and inputs for
+# what they do not cover. Each file is the content as it would be on disk.
+import struct
+
+FIXTURES = os.path.join(HERE, "..", "fixtures")
+
+def copy(kind, folder, name):
+    with open(os.path.join(FIXTURES, folder, name), "rb") as f:
+        write(kind, name, f.read())
+
+for n in ["box_quads.obj", "bad_face.obj", "bad_index.obj", "bad_number.obj"]:
+    copy("mesh_obj", "mesh", n)
+copy("mesh_obj", "mesh/objects", "block.obj")
+text("mesh_obj", "pentagon_w.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 1.5 0 1.0\nf 1 2 3 5 4\n")
+text("mesh_obj", "forward_negative.obj", "f 1 2 3\nv 0 0 0\nv +1 0 0\nv 0 1e-3 0\nf -3/1 -2//2 -1/3/3\nvt 0 0\nl 1 2\n")
+write("mesh_obj", "bom_crlf.obj", b"\xef\xbb\xbfo a\r\nv 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\n\tf 1 2 3\r\n")
+text("mesh_obj", "index_zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n")
+text("mesh_obj", "index_huge.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2147483648\nf 1 2 -9223372036854775808\n")
+text("mesh_obj", "no_faces.obj", "v 0 0 0\nv 1 0 0\n# f 1 2 3\n")
+
+for n in ["box_ascii.stl", "box_binary.stl", "box_binary_solid.stl", "truncated_binary.stl", "bad_ascii.stl"]:
+    copy("mesh_stl", "mesh", n)
+def stl_binary(header, tris, count=None):
+    body = b"".join(struct.pack("<12fH", *([0.0] * 3 + [c for v in t for c in v]), 0) for t in tris)
+    return header.ljust(80, b" ")[:80] + struct.pack("<I", len(tris) if count is None else count) + body
+TRI = [(0, 0, 0), (1, 0, 0), (0, 1, 0)]
+write("mesh_stl", "binary_one.stl", stl_binary(b"one", [TRI]))
+write("mesh_stl", "binary_zero.stl", stl_binary(b"none", []))
+write("mesh_stl", "binary_nan.stl", stl_binary(b"nan", [TRI, [(0, 0, 0), (float("nan"), 0, 0), (0, 1, 0)]]))
+write("mesh_stl", "binary_huge_count.stl", stl_binary(b"huge", [TRI], 0xFFFFFFFF))
+text("mesh_stl", "ascii_normals.stl",
+     "solid a\n facet normal -1.#IND00 1.#QNAN nan\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n"
+     "   vertex 1 1 0\n   vertex 0 1 0\n  endloop\n endfacet\nendsolid a\nsolid b\nendsolid\n")
+text("mesh_stl", "ascii_cut.stl", "solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n")
+
+for n in ["box_ascii.ply", "box_binary_le.ply", "box_binary_be.ply", "truncated_le.ply", "bad_index_ascii.ply",
+          "bad_header.ply"]:
+    copy("mesh_ply", "mesh", n)
+copy("mesh_ply", "mesh/objects", "wedge.ply")
+XYZ = "property float x\nproperty float y\nproperty float z\n"
+TET = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"
+text("mesh_ply", "pad_elements.ply", "ply\nformat ascii 1.0\nelement pad 2\nelement vertex 4\n" + XYZ +
+     "element face 4\nproperty list uchar int vertex_indices\nelement more 1\nproperty list int float w\nend_header\n"
+     "\n\n" + TET + "2 0.5 1\n")
+text("mesh_ply", "float_indices.ply", "ply\nformat ascii 1.0\nelement vertex 3\n" + XYZ +
+     "element face 1\nproperty list char float vertex_index\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2.0\n")
+text("mesh_ply", "point_cloud_labels.ply", "ply\nformat ascii 1.0\nelement vertex 2\n" + XYZ +
+     "property uchar label\nproperty short t\nend_header\n1 2 3 4 -5\n6 7 8 255 32767\n")
+# Many vertex properties, each a value per vertex.
+props = "".join("property char p%d\n" % i for i in range(40))
+text("mesh_ply", "many_properties.ply", "ply\nformat ascii 1.0\nelement vertex 3\n" + XYZ + props +
+     "element face 1\nproperty list uchar int vertex_indices\nend_header\n" +
+     "".join("%s %s\n" % (v, " ".join(["1"] * 40)) for v in ("0 0 0", "1 0 0", "0 1 0")) + "3 0 1 2\n")
+# Binary, every scalar type, and a count in the header far beyond the bytes.
+h = "ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty int8 x\nproperty int16 y\nproperty int32 z\n" \
+    "property uint16 u\nproperty uint32 v\nproperty float64 w\nelement face 1\nproperty list uint8 uint32 vertex_indices\n" \
+    "end_header\n"
+body = b"".join(struct.pack(">bhiHId", *v, 1, 2, 0.5) for v in TRI) + struct.pack(">B3I", 3, 0, 1, 2)
+write("mesh_ply", "binary_types_be.ply", h.encode() + body)
+write("mesh_ply", "binary_huge_count.ply", ("ply\nformat binary_little_endian 1.0\nelement vertex 2147483648\n" + XYZ +
+      "end_header\n").encode() + bytes(64))
+
+for n in ["bad_token.txt", "beyond_double.txt", "empty.txt", "header_ok.txt", "nan.txt", "ragged.txt",
+          "spread_beyond_double.txt", "two_d.txt", "typo_first_line.txt"]:
+    copy("point_file", "io", n)
+write("point_file", "bom_crlf_commas.txt", b"\xef\xbb\xbfx, y, z\r\n# c\r\n1 2 3\r\n\r\n4,5,6\r\n  7\t8 ,9\r\n+1e-3 -2.5E2 .5\n")
+text("point_file", "five_d.txt", "1 2 3 4 5\n6 7 8 9 10\n")
+text("point_file", "old_mac.txt", "0 0 0\r1 1 1\r2 2 2\r")
+text("point_file", "commas.txt", "1,,2\n1,2,\n")
+text("point_file", "out_of_range.txt", "x y z\n1e-400 0 0\n+-1 1e999 0\n")
+# Breaks fuzz_mesh_ply's heap bound before the fix of 2026-11-27 (seen in
+# review, confirmed by the target; written out again from libFuzzer's
+# -minimize_crash output): an ascii item was counted as 2 bytes whatever its
+# properties, so 1400 vertices of 35 values were allocated for a 2800-byte
+# body before the read failed in it. Now refused at line 3.
+props = "".join("property char p%d\n" % i for i in range(32))
+text("mesh_ply", "ascii_count_beyond_properties.ply", "ply\nformat ascii 1.0\nelement vertex 1400\n" + XYZ + props +
+     "end_header\n" + "0 " * 1400)

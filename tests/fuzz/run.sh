@@ -8,7 +8,11 @@
 #   ICLAP_FUZZ_SECONDS=10 bash tests/fuzz/run.sh stream_parser
 #
 # Targets: stream_parser (WTS stream parser), dataset_csv (dataset CSV reader
-# with a write/read round trip). Reproduce a finding with
+# with a write/read round trip), mesh_obj, mesh_stl, mesh_ply (the mesh
+# loaders, one target per format: an input is a mesh file as is) and
+# point_file (the point-file reader of `iclap register`); the last four also
+# bound the heap a reader takes per input byte (fuzz_heap.hpp). Reproduce a
+# finding with
 #   build/fuzz/fuzz_<target> build/fuzz/crash-<target>-<hash>
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -16,7 +20,7 @@ cd "$(dirname "$0")/../.."
 seconds="${ICLAP_FUZZ_SECONDS:-60}"
 out=build/fuzz
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(stream_parser dataset_csv)
+[ ${#targets[@]} -eq 0 ] && targets=(stream_parser dataset_csv mesh_obj mesh_stl mesh_ply point_file)
 
 cxx="${ICLAP_FUZZ_CXX:-}"
 if [ -z "$cxx" ]; then

@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "fuzz_dataset_csv.hpp"
+#include "fuzz_mesh.hpp"
+#include "fuzz_point_file.hpp"
 #include "fuzz_stream_parser.hpp"
 
 namespace fs = std::filesystem;
@@ -52,7 +54,28 @@ TEST_CASE("Fuzz entry: dataset CSV reader on the seed corpus") {
   check_corpus("dataset_csv", iclap::fuzz::fuzz_dataset_csv, 5);
 }
 
+TEST_CASE("Fuzz entry: OBJ loader on the seed corpus") { check_corpus("mesh_obj", iclap::fuzz::fuzz_mesh_obj, 5); }
+
+TEST_CASE("Fuzz entry: STL loader on the seed corpus") { check_corpus("mesh_stl", iclap::fuzz::fuzz_mesh_stl, 7); }
+
+TEST_CASE("Fuzz entry: PLY loader on the seed corpus") { check_corpus("mesh_ply", iclap::fuzz::fuzz_mesh_ply, 5); }
+
+TEST_CASE("Fuzz entry: point-file reader on the seed corpus") {
+  check_corpus("point_file", iclap::fuzz::fuzz_point_file, 3);
+}
+
 TEST_CASE("Fuzz entry: the invariant checks can fail") {
   CHECK_THROWS_AS(iclap::fuzz::fuzz_require(false, "test"), std::logic_error);
   CHECK_THROWS_AS(iclap::fuzz::fuzz_csv_require(false, "test"), std::logic_error);
+  CHECK_THROWS_AS(iclap::fuzz::fuzz_mesh_require(false, "test"), std::logic_error);
+  CHECK_THROWS_AS(iclap::fuzz::fuzz_points_require(false, "test"), std::logic_error);
+  // An error message naming another file, a line past the end or a byte
+  // offset past the end is a finding.
+  using iclap::ParseError;
+  using iclap::fuzz::fuzz_check_parse_error;
+  CHECK_THROWS_AS(fuzz_check_parse_error(ParseError("other.obj", 1, "x"), "fuzz.obj", "a\n"), std::logic_error);
+  CHECK_THROWS_AS(fuzz_check_parse_error(ParseError("fuzz.obj", 3, "x"), "fuzz.obj", "a\n"), std::logic_error);
+  CHECK_THROWS_AS(fuzz_check_parse_error(ParseError("fuzz.stl", 0, "byte offset 3: x"), "fuzz.stl", "a\n"),
+                  std::logic_error);
+  CHECK_NOTHROW(fuzz_check_parse_error(ParseError("fuzz.stl", 2, "byte offset 2: x"), "fuzz.stl", "a\n"));
 }

@@ -311,6 +311,30 @@ TEST_CASE("mesh io: PLY element counts the file cannot hold are refused before r
             .rfind("3: element 'vertex' declares 3 items, more than the 4 bytes", 0) == 0);
 }
 
+TEST_CASE("mesh io: an ascii PLY item needs a value and a blank or line break per property, refused before allocating") {
+  // 100 properties besides x, y, z: each vertex takes at least 206 bytes, so
+  // 500 vertices do not fit in the 1006 bytes of this body. Counted at 2 bytes
+  // an item, they did: the reader allocated 500 x 103 values first (a 1 MB
+  // file with 1000 properties made it allocate 4 GB, 8 bytes per property
+  // per 2 bytes of file) and only then failed in the body.
+  std::string props;
+  for (int i = 0; i < 100; ++i) props += "property uchar p" + std::to_string(i) + "\n";
+  std::string vertex = "0 0 0";
+  for (int i = 0; i < 100; ++i) vertex += " 1";
+  const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
+  const std::string body = vertex + "\n" + std::string(800, '\n');
+  CHECK(ply_outcome("ply\nformat ascii 1.0\nelement vertex 500\n" + xyz + props + "end_header\n" + body) ==
+        "3: element 'vertex' declares 500 items, more than the 1006 bytes after the header can hold");
+  CHECK(ply_outcome("ply\nformat ascii 1.0\nelement vertex 1\n" + xyz + props + "end_header\n" + body) ==
+        "accepted: 1 vertices");
+  // The least an item takes: one character per value, one blank between
+  // them, a line break after the last (but the file's last).
+  CHECK(ply_outcome("ply\nformat ascii 1.0\nelement vertex 3\n" + xyz + "end_header\n0 0 0\n1 0 0\n0 1 0") ==
+        "accepted: 3 vertices");
+  CHECK(ply_outcome("ply\nformat ascii 1.0\nelement vertex 4\n" + xyz + "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0")
+            .rfind("3: element 'vertex' declares 4 items, more than the 21 bytes", 0) == 0);
+}
+
 TEST_CASE("mesh io: PLY float vertex indices out of range or fractional are shown as read") {
   const std::string float_head =
       "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"

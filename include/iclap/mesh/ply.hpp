@@ -282,7 +282,8 @@ inline PlyContent parse_ply(std::string_view data, const std::string& name, bool
   // cannot hold before allocating or looping over them. Binary items take
   // at least their scalar sizes plus their list counts' sizes (an element
   // without properties takes none and is skipped); ascii items at least a
-  // value or an empty line and a line break (the last one may lack it).
+  // value per property (a list's count), each with a blank or the line
+  // break after it, or an empty line (the last line break may be missing).
   {
     const std::uint64_t body = data.size() - header.position();
     const bool text = format == PlyFormat::ascii;
@@ -290,7 +291,7 @@ inline PlyContent parse_ply(std::string_view data, const std::string& name, bool
     for (const auto& e : elements) {
       std::uint64_t item = 0;
       if (text) {
-        item = e.properties.empty() ? 1 : 2;
+        item = e.properties.empty() ? 1 : 2 * std::uint64_t{e.properties.size()};
       } else {
         for (const auto& p : e.properties) item += ply_type_size(p.is_list ? p.count_type : p.type);
         if (item == 0) continue;
