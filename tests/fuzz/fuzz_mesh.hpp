@@ -77,18 +77,24 @@ inline void fuzz_check_mesh(const TriangleMesh& m) {
                     "triangle indices in range");
 }
 
-/// Runs `load(stream, name)` on `input`: the mesh, or false after checking
-/// the ParseError.
+/// Runs `load(stream, name)` on `input` into `out`: "" on success, else the
+/// ParseError's message after checking it.
 template <typename Mesh, typename Load>
-bool fuzz_load(std::string_view input, const std::string& name, Load load, Mesh& out) {
+std::string fuzz_load_error(std::string_view input, const std::string& name, Load load, Mesh& out) {
   std::istringstream in{std::string(input)};
   try {
     out = load(in, name);
-    return true;
+    return {};
   } catch (const ParseError& e) {
     fuzz_check_parse_error(e, name, input);
-    return false;
+    return e.what();
   }
+}
+
+/// fuzz_load_error, as true for a load.
+template <typename Mesh, typename Load>
+bool fuzz_load(std::string_view input, const std::string& name, Load load, Mesh& out) {
+  return fuzz_load_error(input, name, load, out).empty();
 }
 
 inline void fuzz_mesh_obj(const std::uint8_t* data, std::size_t size) {
@@ -133,27 +139,11 @@ inline void fuzz_mesh_ply(const std::uint8_t* data, std::size_t size) {
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);
   const std::string name = "fuzz.ply";
   PlyContent c;
-  std::string read_error;
-  {
-    std::istringstream in{std::string(bytes)};
-    try {
-      c = read_ply(in, name);
-    } catch (const ParseError& e) {
-      fuzz_check_parse_error(e, name, bytes);
-      read_error = e.what();
-    }
-  }
+  const std::string read_error =
+      fuzz_load_error(bytes, name, [](std::istream& in, const std::string& n) { return read_ply(in, n); }, c);
   TriangleMesh m;
-  std::string load_error;
-  {
-    std::istringstream in{std::string(bytes)};
-    try {
-      m = load_ply(in, name);
-    } catch (const ParseError& e) {
-      fuzz_check_parse_error(e, name, bytes);
-      load_error = e.what();
-    }
-  }
+  const std::string load_error =
+      fuzz_load_error(bytes, name, [](std::istream& in, const std::string& n) { return load_ply(in, n); }, m);
   if (!read_error.empty()) {
     fuzz_mesh_require(load_error == read_error, "read_ply and load_ply refuse a file alike");
     return;
