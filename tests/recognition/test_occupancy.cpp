@@ -465,7 +465,7 @@ TEST_CASE("occupancy: the distances are the formula's, point by point, slab and 
 
 /// One touch pressing straight down with the given contact points and one
 /// free point.
-TouchSet one_touch(const Eigen::Matrix3Xd& contacts, const Eigen::Vector3d& free) {
+static TouchSet one_touch(const Eigen::Matrix3Xd& contacts, const Eigen::Vector3d& free) {
   TouchSet t;
   t.positions = contacts.col(0);
   t.normals = Eigen::Vector3d(0, 0, -1);
