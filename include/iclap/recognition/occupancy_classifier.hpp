@@ -253,8 +253,8 @@ class OccupancyClassifier final : public Classifier {
       Reference r;
       r.occupied = TruncatedDistanceField(objects[j].occupied, {voxel, truncation}, arg + ".occupied");
       r.free = TruncatedDistanceField(objects[j].free, {voxel, free_radius}, arg + ".free");
-      r.z_low = objects[j].occupied.row(2).minCoeff();
-      r.z_high = objects[j].occupied.row(2).maxCoeff();
+      r.low = objects[j].occupied.rowwise().minCoeff();
+      r.high = objects[j].occupied.rowwise().maxCoeff();
       if (objects[j].turn_centre) {
         check_finite(*objects[j].turn_centre, arg + ".turn_centre");
         r.centre = *objects[j].turn_centre;
@@ -262,8 +262,6 @@ class OccupancyClassifier final : public Classifier {
         r.centre = objects[j].occupied.topRows<2>().rowwise().mean();
       }
       r.radius = (objects[j].occupied.topRows<2>().colwise() - r.centre).colwise().norm().maxCoeff();
-      r.xy_low = objects[j].occupied.topRows<2>().rowwise().minCoeff();
-      r.xy_high = objects[j].occupied.topRows<2>().rowwise().maxCoeff();
       refs.push_back(std::move(r));
     }
     grid_ = placements.grid("placements");
@@ -335,9 +333,8 @@ class OccupancyClassifier final : public Classifier {
   struct Reference {
     TruncatedDistanceField occupied, free;
     Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // the turns' vertical axis
-    double z_low = 0, z_high = 0;                      // the occupied points' heights
+    Eigen::Vector3d low, high;                         // the occupied points' bounding box
     double radius = 0;                                 // their largest horizontal distance from centre
-    Eigen::Vector2d xy_low, xy_high;                   // their horizontal bounding box
   };
   struct Fitted {
     double truncation = 0, free_radius = 0, conflict_weight = 0, unknown_cost = 1;
@@ -430,7 +427,7 @@ class OccupancyClassifier final : public Classifier {
     // never charged either. The charges, and the order they are summed in,
     // are the same.
     const double reach = fitted_.free_radius + r.occupied.voxel();
-    const double z_min = r.z_low - reach, z_max = r.z_high + reach;
+    const double z_min = r.low.z() - reach, z_max = r.high.z() + reach;
     double max_shift = 0, max_turn = 0;
     for (Index g = 0; g < G; ++g) {
       max_shift = std::max(max_shift, grid_.col(g).head<2>().norm());
@@ -444,7 +441,7 @@ class OccupancyClassifier final : public Classifier {
       const double d2 = d.squaredNorm();
       if (d2 > out2) return false;
       const Eigen::Vector2d gap =
-          (r.xy_low - p.head<2>()).cwiseMax(p.head<2>() - r.xy_high).cwiseMax(Eigen::Vector2d::Zero());
+          (r.low.head<2>() - p.head<2>()).cwiseMax(p.head<2>() - r.high.head<2>()).cwiseMax(Eigen::Vector2d::Zero());
       const double m = max_shift + chord * std::sqrt(d2) + reach;
       return gap.squaredNorm() <= m * m;
     };
