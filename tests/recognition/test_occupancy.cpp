@@ -493,7 +493,8 @@ TEST_CASE("occupancy: a free point is charged up to the edge of the skipped dist
   OccupancyEvidence felt;
   felt.turn_centre = Eigen::Vector2d::Zero();
   // The free point p lands at q under the best placement; its charge is
-  // what it adds to the distance of the same touch with `far` instead.
+  // what it adds to the distance of the same touch with `far` instead,
+  // which is returned.
   auto check_charged = [&](const Eigen::Matrix3Xd& contacts, const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
     const TruncatedDistanceField field(felt.occupied, {c.voxel, c.truncation});
     REQUIRE(field.node_squared_distance(q) < static_cast<float>(rho * rho));
@@ -502,6 +503,7 @@ TEST_CASE("occupancy: a free point is charged up to the edge of the skipped dist
     c.distances(one_touch(contacts, p), charged);
     c.distances(one_touch(contacts, far), uncharged);
     CHECK(charged(0) == uncharged(0) + penalty);
+    return uncharged(0);
   };
   SUBCASE("shifted: beyond the radius + shift + free radius") {
     // Felt: five points on the x axis out to 2.05 mm. The test's contact
@@ -519,12 +521,11 @@ TEST_CASE("occupancy: a free point is charged up to the edge of the skipped dist
     contacts.row(0).array() += 4e-3;
     const Eigen::Vector3d p(8.49e-3, 0, z);
     REQUIRE(p.head<2>().norm() > 2.05e-3 + 4e-3 + rho + 0.3 * c.voxel);
-    check_charged(contacts, p, p - Eigen::Vector3d(4e-3, 0, 0));
+    const double uncharged = check_charged(contacts, p, p - Eigen::Vector3d(4e-3, 0, 0));
     // One voxel farther out, p is skipped, and it could not have been charged.
-    Eigen::VectorXd beyond(1), uncharged(1);
+    Eigen::VectorXd beyond(1);
     c.distances(one_touch(contacts, p + Eigen::Vector3d(c.voxel, 0, 0)), beyond);
-    c.distances(one_touch(contacts, far), uncharged);
-    CHECK(beyond(0) == uncharged(0));
+    CHECK(beyond(0) == uncharged);
   }
   SUBCASE("turned: 11.8 mm across from the bounding box, which a 10 degree turn 65 mm out covers") {
     // Felt: five points along y = 10 mm, 58 to 62.05 mm out. The test is
