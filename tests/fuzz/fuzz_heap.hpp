@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // Heap bound for the libFuzzer targets of the file readers (fuzz_mesh_*.cpp,
-// fuzz_point_file.cpp; not used by the doctest suite): the peak of the heap a
+// fuzz_point_file.cpp; test_fuzz_corpus.cpp holds their seeds to it in the
+// test suite's ASan build): the peak of the heap a
 // reader allocates for one input must stay within a fixed multiple of the
 // input's size. A count in a header (PLY element counts, the STL triangle
 // count) that the bytes after it cannot hold must be refused before it is
@@ -9,7 +10,9 @@
 // hundreds of MB, not a 4 KB input that makes a reader take 4 MB.
 //
 // Uses AddressSanitizer's malloc/free hooks (run.sh builds the targets with
-// -fsanitize=address); in a build without ASan the bound is not checked.
+// -fsanitize=address); in a build without ASan, or without the hooks' header
+// <sanitizer/allocator_interface.h> (GCC 12 does not ship it), the bound is
+// not checked.
 
 #include <cstddef>
 #include <stdexcept>
