@@ -121,6 +121,13 @@ TEST_CASE("live session: each update equals a from-scratch recognition of the sa
   check_live_equals_scratch(synthetic_table(1), "0.5*iclap+0.3*icp+0.2*bow", test::paper_classifiers, false);
 }
 
+TEST_CASE("live session: every stop reason has its own name") {
+  CHECK(std::string(to_string(LiveStop::kContinue)) == "continue");
+  CHECK(std::string(to_string(LiveStop::kConfident)) == "confident");
+  CHECK(std::string(to_string(LiveStop::kTouchLimit)) == "touch limit");
+  CHECK(std::string(to_string(static_cast<LiveStop>(7))) == "unknown");
+}
+
 TEST_CASE("live session: the stop rule") {
   const TouchTable t = synthetic_table(2);
   std::vector<Index> held, train;

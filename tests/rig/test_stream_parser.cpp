@@ -443,6 +443,57 @@ TEST_CASE("Framer: a feed after finish() starts a new stream whether or not next
   }
 }
 
+TEST_CASE("Framer: reset() drops the buffered bytes as junk, keeps the counters and the packets set aside") {
+  const Bytes pkt = encode_reply(Reply{wts_id::kLoop, 0, Bytes{1, 2, 3, 4}});
+  const Bytes other = encode_reply(Reply{wts_id::kTare, 0, {}});
+  const Bytes head(pkt.begin(), pkt.begin() + 6), rest(pkt.begin() + 6, pkt.end());
+  const auto balanced = [](const PacketFramer& f) {
+    const FramerStats& s = f.stats();
+    return s.bytes_in == s.packet_bytes + s.junk_bytes + f.buffered();
+  };
+  SUBCASE("a packet cut by the reset is not completed by what follows") {
+    PacketFramer f;
+    f.feed(other.data(), other.size());
+    REQUIRE(f.next());
+    f.feed(head.data(), head.size());
+    CHECK_FALSE(f.next());
+    CHECK(f.buffered() == head.size());
+    f.reset();
+    CHECK(f.buffered() == 0);
+    CHECK(f.stats().bytes_in == other.size() + head.size());  // the counters stay
+    CHECK(f.stats().packets == 1);
+    CHECK(f.stats().junk_bytes == head.size());
+    CHECK(balanced(f));
+    f.feed(rest.data(), rest.size());
+    f.feed(other.data(), other.size());
+    f.finish();
+    std::vector<std::uint8_t> ids;
+    while (auto p = f.next()) ids.push_back(p->id);
+    CHECK(ids == std::vector<std::uint8_t>{wts_id::kTare});  // not the loop packet spliced across the reset
+    CHECK(f.stats().junk_bytes == head.size() + rest.size());
+    CHECK(f.stats().truncated == 0);
+    CHECK(balanced(f));
+  }
+  SUBCASE("packets a feed after finish() set aside still come out") {
+    PacketFramer f;
+    Bytes first = pkt;
+    first.insert(first.end(), head.begin(), head.end());  // a second candidate, cut short
+    f.feed(first.data(), first.size());
+    f.finish();
+    f.feed(head.data(), head.size());  // settles the finished stream: pkt set aside, its cut tail dropped
+    f.reset();
+    CHECK(f.buffered() == 0);
+    const auto p = f.next();
+    REQUIRE(p);
+    CHECK(p->id == wts_id::kLoop);
+    CHECK(p->payload == Bytes(pkt.begin() + 6, pkt.end() - 2));  // between the size field and the CRC
+    CHECK_FALSE(f.next());
+    CHECK(f.stats().packets == 1);
+    CHECK(f.stats().junk_bytes == 2 * head.size());
+    CHECK(balanced(f));
+  }
+}
+
 // --- Parser: grids larger than the payload bound ----------------------------
 
 TEST_CASE("Parser: a grid whose frames exceed the payload bound raises the bound, so its frames decode") {
