@@ -4,9 +4,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -248,6 +250,135 @@ TEST_CASE("AtomicFileWriter: through a symbolic link, keeping permissions, with 
   fs::create_symlink("a", dir / "b");
   CHECK_THROWS_WITH_AS(AtomicFileWriter((dir / "a").string()), doctest::Contains("symbolic links"), IoError);
   CHECK(std::distance(fs::directory_iterator(dir), fs::directory_iterator()) == 5);  // real, link, long, a, b
+  fs::remove_all(dir);
+}
+
+namespace {
+// The names in `dir`, sorted.
+std::vector<std::string> names_in(const std::filesystem::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) out.push_back(e.path().filename().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+// What `f` threw: "WriteError" or "IoError" (a WriteError is an IoError too),
+// the path the error names and what().
+struct ThrownIo {
+  std::string type = "none", path, what;
+};
+template <typename F>
+ThrownIo io_error_of(F&& f) {
+  try {
+    f();
+  } catch (const WriteError& e) {
+    return {"WriteError", e.path(), e.what()};
+  } catch (const IoError& e) {
+    return {"IoError", e.path(), e.what()};
+  }
+  return {};
+}
+}  // namespace
+
+TEST_CASE("AtomicFileWriter: a failed open, rename or sync names the path and leaves the old file and no temporary") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("iclap_atomic_errors_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // A directory that does not exist: nothing is created.
+  const std::string missing = (dir / "no_such_dir" / "out.txt").string();
+  ThrownIo t = io_error_of([&] { AtomicFileWriter w(missing); });
+  CHECK(t.type == "IoError");
+  CHECK(t.path == missing);
+  CHECK(t.what == missing + ": cannot open for writing: " + std::strerror(ENOENT));
+  CHECK(names_in(dir).empty());
+
+  const std::string target = (dir / "out.txt").string();
+  std::ofstream(target, std::ios::binary) << "old\ncontent\n";
+  // An open mode the stream refuses (append, with the writer's truncation):
+  // the temporary file just created is removed again, and the reason is not
+  // an unrelated earlier errno (it read "No such file or directory").
+  t = io_error_of([&] { AtomicFileWriter w(target, std::ios::app); });
+  CHECK(t.type == "IoError");
+  CHECK(t.path == target);
+  CHECK(t.what == target + ": cannot open for writing: the stream refused the open mode");
+  CHECK(names_in(dir) == std::vector<std::string>{"out.txt"});
+  CHECK(slurp_file(target) == "old\ncontent\n");
+
+  // The target is a directory that is not empty: the rename fails. IoError
+  // (not WriteError), the directory and its file as they were, no temporary.
+  const fs::path taken = dir / "taken";
+  fs::create_directories(taken);
+  std::ofstream(taken / "inside.txt", std::ios::binary) << "inside\n";
+  t = io_error_of([&] {
+    AtomicFileWriter w(taken.string());
+    w.stream() << "new\n";
+    w.commit();
+  });
+  CHECK(t.type == "IoError");
+  CHECK(t.path == taken.string());
+  CHECK(t.what.rfind(taken.string() + ": cannot move into place: ", 0) == 0);
+  CHECK(fs::is_directory(taken));
+  CHECK(names_in(taken) == std::vector<std::string>{"inside.txt"});
+  CHECK(slurp_file((taken / "inside.txt").string()) == "inside\n");
+  CHECK(names_in(dir) == std::vector<std::string>{"out.txt", "taken"});
+
+  // The temporary file vanishes before the commit (removed by someone else):
+  // it cannot be opened to be synced, WriteError, the old content stays.
+  t = io_error_of([&] {
+    AtomicFileWriter w(target);
+    w.stream() << "new\n";
+    REQUIRE(std::remove(w.temporary_path().c_str()) == 0);
+    w.commit();
+  });
+  CHECK(t.type == "WriteError");
+  CHECK(t.path == target);
+  CHECK(t.what == target + ": fsync failed: " + std::strerror(ENOENT));
+  CHECK(slurp_file(target) == "old\ncontent\n");
+  CHECK(names_in(dir) == std::vector<std::string>{"out.txt", "taken"});
+  fs::remove_all(dir);
+}
+
+TEST_CASE("AtomicFileWriter: when all 1000 temporary names it tries are taken, IoError and nothing replaced") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("iclap_atomic_names_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string target = (dir / "data.csv").string();
+  std::ofstream(target, std::ios::binary) << "kept\n";
+  // The writer tries PATH.partial-PID-N for N from a process-wide counter
+  // on: a probe shows where the counter stands.
+  const std::string stem = target + ".partial-" + std::to_string(::getpid()) + "-";
+  std::string probe;
+  {
+    AtomicFileWriter w(target);
+    probe = w.temporary_path();
+  }
+  REQUIRE(probe.rfind(stem, 0) == 0);
+  const unsigned next = static_cast<unsigned>(std::stoul(probe.substr(stem.size()))) + 1;
+  auto decoy_text = [](unsigned n) { return "decoy " + std::to_string(n) + "\n"; };
+  for (unsigned n = next; n < next + 1000; ++n)
+    std::ofstream(stem + std::to_string(n), std::ios::binary) << decoy_text(n);
+  const ThrownIo t = io_error_of([&] { AtomicFileWriter w(target); });
+  CHECK(t.type == "IoError");
+  CHECK(t.path == target);
+  CHECK(t.what == target + ": cannot create a temporary file beside it (1000 names taken)");
+  // No file of another name appeared, none of the 1000 was replaced or
+  // truncated, the target is as it was.
+  CHECK(names_in(dir).size() == 1001);
+  unsigned intact = 0;
+  for (unsigned n = next; n < next + 1000; ++n)
+    intact += slurp_file(stem + std::to_string(n)) == decoy_text(n) ? 1u : 0u;
+  CHECK(intact == 1000);
+  CHECK(slurp_file(target) == "kept\n");
+  // The name after them is free: the next writer takes it.
+  {
+    AtomicFileWriter w(target);
+    CHECK(w.temporary_path() == stem + std::to_string(next + 1000));
+    w.stream() << "new\n";
+    w.commit();
+  }
+  CHECK(slurp_file(target) == "new\n");
+  CHECK(names_in(dir).size() == 1001);
   fs::remove_all(dir);
 }
 

@@ -15,6 +15,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "iclap/core/random.hpp"
@@ -240,6 +241,85 @@ TEST_CASE("dataset csv: writer rejects invalid datasets naming the field") {
   d = ds;
   d.cols = 0;
   rejects(d, "dataset.rows/cols");
+}
+
+TEST_CASE("dataset csv: names with outer white space, orientations not fitting the file are refused naming the frame") {
+  // What the writer (to a stream) throws, "argument | reason"; nothing written.
+  auto refusal = [](const Dataset& d) {
+    std::ostringstream out;
+    std::string r = "accepted";
+    try {
+      iclap::write_dataset_csv(out, d);
+    } catch (const iclap::InvalidArgument& e) {
+      r = e.argument() + " | " + e.reason();
+      CHECK(out.str().empty());
+    }
+    return r;
+  };
+  // The reader trims the fields, so a name with white space at either end
+  // would not read back as written. Inside, a space or a tab is kept.
+  const Dataset plain = awkward_dataset(false, false);
+  // (The message shows a tab escaped, as \x09.)
+  const std::pair<std::string, std::string> outer[] = {
+      {" pliers", "' pliers'"}, {"pliers ", "'pliers '"}, {"\tpliers", "'\\x09pliers'"},
+      {"pliers\t", "'pliers\\x09'"}, {" ", "' '"}};
+  for (const auto& o : outer) {
+    CAPTURE(o.second);
+    Dataset d = plain;
+    d.frames[9].object = o.first;
+    CHECK(refusal(d) == "dataset.frames[9].object | " + o.second + " has leading or trailing white space");
+  }
+  Dataset inner = plain;
+  inner.frames[9].object = "wooden cuboid\t1";
+  CHECK(refusal(inner) == "accepted");
+
+  // The file has quaternion columns when the first frame has an orientation;
+  // a later frame without one, or a frame with one in a file without them, or
+  // a non-finite one, is refused naming that frame.
+  const Dataset oriented = awkward_dataset(true, true);
+  Dataset d = oriented;
+  d.frames[11].orientation.reset();
+  CHECK(refusal(d) == "dataset.frames[11].orientation | is missing, the file has qw,qx,qy,qz columns");
+  d = plain;
+  d.frames[12].orientation = Eigen::Quaterniond(1, 0, 0, 0);
+  CHECK(refusal(d) == "dataset.frames[12].orientation | is set, the file has no quaternion columns");
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()})
+    for (int k = 0; k < 4; ++k) {
+      CAPTURE(bad);
+      CAPTURE(k);
+      d = oriented;
+      d.frames[13].orientation->coeffs()[k] = bad;
+      CHECK(refusal(d) == "dataset.frames[13].orientation | is not finite");
+    }
+
+  // The appender checks each frame against its file's columns the same way,
+  // naming the argument "frame", and writes nothing.
+  TempDir dir("orientation");
+  const std::string with_q = dir.file("with_q.csv"), without_q = dir.file("without_q.csv");
+  iclap::DatasetCsvAppender app_q(with_q, oriented.rows, oriented.cols, true, true);
+  iclap::DatasetCsvAppender app(without_q, plain.rows, plain.cols, false, false);
+  app_q.append(oriented.frames[0]);
+  app.append(plain.frames[0]);
+  const std::string before_q = slurp(with_q), before = slurp(without_q);
+  Frame f = oriented.frames[1];
+  f.orientation.reset();
+  CHECK_THROWS_WITH_AS(app_q.append(f), "frame.orientation: is missing, the file has qw,qx,qy,qz columns",
+                       iclap::InvalidArgument);
+  f = oriented.frames[1];
+  f.orientation->coeffs()[2] = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_WITH_AS(app_q.append(f), "frame.orientation: is not finite", iclap::InvalidArgument);
+  f = plain.frames[1];
+  f.orientation = Eigen::Quaterniond(0, 1, 0, 0);
+  CHECK_THROWS_WITH_AS(app.append(f), "frame.orientation: is set, the file has no quaternion columns",
+                       iclap::InvalidArgument);
+  f = plain.frames[1];
+  f.object = "pliers_1 ";
+  CHECK_THROWS_WITH_AS(app.append(f), "frame.object: 'pliers_1 ' has leading or trailing white space",
+                       iclap::InvalidArgument);
+  CHECK(slurp(with_q) == before_q);
+  CHECK(slurp(without_q) == before);
+  CHECK(app_q.rows_in_file() == 1);
+  CHECK(app.rows_in_file() == 1);
 }
 
 TEST_CASE("dataset csv: reader accepts comments, any column order, CRLF and a BOM") {

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 #include <string>
+#include <typeinfo>
 
 #include "iclap/core/random.hpp"
 #include "iclap/mesh/mesh.hpp"
@@ -245,6 +246,132 @@ TEST_CASE("mesh: triangles that all have zero area are refused by validate_mesh,
   m.triangles.col(2) << 0, 1, 2;
   CHECK(refused([&] { iclap::validate_mesh(m); }) == "accepted");
   CHECK(refused([&] { (void)iclap::MeshBvh{m}; }) == "accepted");
+}
+
+namespace {
+// A tetrahedron with outward triangles (signed volume 1/6).
+iclap::TriangleMesh tetrahedron() {
+  iclap::TriangleMesh m;
+  m.vertices.resize(3, 4);
+  m.vertices << 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1;
+  m.triangles.resize(3, 4);
+  m.triangles << 0, 0, 0, 1, 2, 1, 3, 2, 1, 3, 2, 3;
+  return m;
+}
+
+// Every triangle's normal points away from `inside` (a point of a convex solid).
+bool normals_point_away_from(const iclap::TriangleMesh& m, const Eigen::Vector3d& inside) {
+  for (iclap::Index t = 0; t < m.triangle_count(); ++t) {
+    const Eigen::Vector3d centre = (m.corner(t, 0) + m.corner(t, 1) + m.corner(t, 2)) / 3.0;
+    if (!(m.area_normal(t).dot(centre - inside) > 0)) return false;
+  }
+  return true;
+}
+}  // namespace
+
+TEST_CASE("validate_mesh: a vertex index out of range is refused naming the argument, the triangle and the index") {
+  const iclap::TriangleMesh tet = tetrahedron();
+  REQUIRE(iclap::signed_volume(tet) == doctest::Approx(1.0 / 6.0));
+  CHECK_NOTHROW(iclap::validate_mesh(tet));
+  for (const int bad : {4, 5, -1, std::numeric_limits<int>::max(), std::numeric_limits<int>::min()})
+    for (int k = 0; k < 3; ++k) {
+      CAPTURE(bad);
+      CAPTURE(k);
+      iclap::TriangleMesh m = tet;
+      m.triangles(k, 2) = bad;
+      try {
+        iclap::validate_mesh(m, "mesh of 'wrench'");
+        FAIL("accepted");
+      } catch (const iclap::InvalidArgument& e) {
+        CHECK(typeid(e) == typeid(iclap::InvalidArgument));
+        CHECK(e.argument() == "mesh of 'wrench'");
+        CHECK(e.reason() == "triangle 2 has vertex index " + std::to_string(bad) + " outside [0, 4)");
+      }
+    }
+  // The first bad triangle is named; the default argument is "mesh".
+  iclap::TriangleMesh m = tet;
+  m.triangles(0, 3) = -7;
+  m.triangles(1, 1) = 9;
+  CHECK_THROWS_WITH_AS(iclap::validate_mesh(m), "mesh: triangle 1 has vertex index 9 outside [0, 4)",
+                       iclap::InvalidArgument);
+}
+
+TEST_CASE("mass_centroid: a surface without volume gives its area centroid, one without area its bounds' centre") {
+  auto mesh = [](const Eigen::Matrix3Xd& vertices, const Eigen::Matrix3Xi& triangles) {
+    iclap::TriangleMesh m;
+    m.vertices = vertices;
+    m.triangles = triangles;
+    return m;
+  };
+  // A flat triangle: its centroid, not the centre of its bounds (1.5, 1.5, 0).
+  Eigen::Matrix3Xd v(3, 3);
+  v << 0, 3, 0, 0, 0, 3, 0, 0, 0;
+  Eigen::Matrix3Xi t(3, 1);
+  t << 0, 1, 2;
+  CHECK(iclap::mass_centroid(mesh(v, t)).isApprox(Eigen::Vector3d(1, 1, 0)));
+  // Two flat triangles of areas 8 and 0.5 in the plane z = 2: weighted by area.
+  Eigen::Matrix3Xd v2(3, 6);
+  v2 << 0, 4, 0, 10, 11, 10, 0, 0, 4, 0, 0, 1, 2, 2, 2, 2, 2, 2;
+  Eigen::Matrix3Xi t2(3, 2);
+  t2 << 0, 3, 1, 4, 2, 5;
+  const Eigen::Vector3d weighted =
+      (8.0 * Eigen::Vector3d(4.0 / 3, 4.0 / 3, 2) + 0.5 * Eigen::Vector3d(31.0 / 3, 1.0 / 3, 2)) / 8.5;
+  CHECK(iclap::mass_centroid(mesh(v2, t2)).isApprox(weighted));
+  // A two-sided sheet (a triangle and its reverse), not flat along any axis:
+  // its bounds have volume but it encloses none.
+  Eigen::Matrix3Xd v3(3, 3);
+  v3 << 0, 3, 0, 0, 0, 3, 0, 0, 3;
+  Eigen::Matrix3Xi t3(3, 2);
+  t3 << 0, 0, 1, 2, 2, 1;
+  REQUIRE(iclap::signed_volume(mesh(v3, t3)) == 0.0);
+  CHECK(iclap::mass_centroid(mesh(v3, t3)).isApprox(Eigen::Vector3d(1, 1, 1)));
+  // No area at all: the centre of the bounds of the vertices used, finite.
+  CHECK(iclap::mass_centroid(iclap::test::zero_area_mesh()).isApprox(Eigen::Vector3d(0.5, 0.5, 0.5)));
+  Eigen::Matrix3Xd v4(3, 4);
+  v4 << 1, 2, 4, 100, 1, 2, 4, 100, 1, 2, 4, 100;  // collinear corners; vertex 3 unused
+  Eigen::Matrix3Xi t4(3, 1);
+  t4 << 0, 1, 2;
+  CHECK(iclap::mass_centroid(mesh(v4, t4)).isApprox(Eigen::Vector3d(2.5, 2.5, 2.5)));
+  // A closed solid still gives the centre of mass of its volume.
+  const iclap::TriangleMesh tet = tetrahedron();
+  CHECK(iclap::mass_centroid(tet).isApprox(Eigen::Vector3d(0.25, 0.25, 0.25)));
+}
+
+TEST_CASE("orient_outward: flips an inside-out mesh, leaves an outward one alone") {
+  const iclap::TriangleMesh far_box =
+      iclap::transformed(iclap::make_box({2, 1, 0.5}), Eigen::Affine3d(Eigen::Translation3d(100, -50, 20)));
+  for (const iclap::TriangleMesh& outward : {tetrahedron(), far_box}) {
+    const iclap::Index triangles = outward.triangle_count();
+    CAPTURE(triangles);
+    const Eigen::Vector3d inside = outward.vertices.rowwise().mean();
+    REQUIRE(normals_point_away_from(outward, inside));
+    const double volume = iclap::signed_volume(outward);
+    REQUIRE(volume > 0);
+    // Already outward: unchanged.
+    iclap::TriangleMesh m = outward;
+    CHECK_FALSE(iclap::orient_outward(m));
+    CHECK(m.triangles == outward.triangles);
+    CHECK(m.vertices == outward.vertices);
+    // Inside out (two corners of every triangle swapped, as a file might
+    // have them): flipped back, every normal outward again, vertices as they were.
+    iclap::TriangleMesh inverted = outward;
+    inverted.triangles.row(0).swap(inverted.triangles.row(1));
+    REQUIRE(iclap::signed_volume(inverted) < 0);
+    CHECK(iclap::orient_outward(inverted));
+    CHECK(iclap::signed_volume(inverted) == doctest::Approx(volume));
+    CHECK(normals_point_away_from(inverted, inside));
+    CHECK(inverted.vertices == outward.vertices);
+    for (iclap::Index t = 0; t < inverted.triangle_count(); ++t) {
+      // The same corners, in the opposite order to the inverted ones.
+      CHECK(inverted.triangles(0, t) == outward.triangles(1, t));
+      CHECK(inverted.triangles(1, t) == outward.triangles(2, t));
+      CHECK(inverted.triangles(2, t) == outward.triangles(0, t));
+    }
+    // Once outward it stays so.
+    const Eigen::Matrix3Xi fixed = inverted.triangles;
+    CHECK_FALSE(iclap::orient_outward(inverted));
+    CHECK(inverted.triangles == fixed);
+  }
 }
 
 TEST_CASE("placement: face_merge_angle must be in [0, pi/2]") {

@@ -3,8 +3,10 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "iclap/recognition/recognition.hpp"
 
@@ -140,6 +142,69 @@ TEST_CASE("a NaN or infinity is refused, never passed on or decided by its posit
   } catch (const NonFiniteValue& e) {
     CHECK(std::string(e.argument()) == "product icp*bow");
   }
+}
+
+TEST_CASE("DistanceTable: setting a classifier again replaces its distances, checked like the first time") {
+  const Fusion icp = Fusion::classifier("icp"), bow = Fusion::classifier("bow");
+  DistanceTable t;
+  t.set("icp", vec({0.9, 0.1, 0.5}));
+  t.set("bow", vec({0.2, 0.4, 0.6}));
+  CHECK(decide(icp.evaluate(t)) == 1);
+  t.set("icp", vec({0.1, 0.8, 0.3}));
+  // The new distances are the ones used, by get and by every fusion; the
+  // other classifier's are untouched and the table still has 3 objects.
+  CHECK(t.get("icp") == vec({0.1, 0.8, 0.3}));
+  CHECK(t.get("bow") == vec({0.2, 0.4, 0.6}));
+  CHECK(t.objects() == 3);
+  CHECK(t.has("icp"));
+  CHECK(decide(icp.evaluate(t)) == 0);
+  CHECK(Fusion(0.5 * icp + 0.5 * bow).evaluate(t).isApprox(vec({0.15, 0.6, 0.45})));
+  CHECK((icp * bow).evaluate(t).isApprox(vec({0.02, 0.32, 0.18})));
+  // The second classifier can be replaced too, again and again.
+  t.set("bow", vec({0.7, 0.0, 0.1}));
+  t.set("bow", vec({0.6, 0.05, 0.2}));
+  CHECK(t.get("bow") == vec({0.6, 0.05, 0.2}));
+  CHECK(t.get("icp") == vec({0.1, 0.8, 0.3}));
+  CHECK(decide(bow.evaluate(t)) == 1);
+  // A replacement of the wrong length or with a NaN is refused naming the
+  // classifier, and the distances stay as they were.
+  try {
+    t.set("icp", vec({0.1, 0.2}));
+    FAIL("a replacement of the wrong length was taken");
+  } catch (const DimensionMismatch& e) {
+    CHECK(e.argument() == "distances of 'icp'");
+    CHECK(e.expected() == 3);
+    CHECK(e.actual() == 2);
+  }
+  CHECK_THROWS_AS(t.set("icp", vec({0.1, std::numeric_limits<double>::quiet_NaN(), 0.3})), NonFiniteValue);
+  CHECK(t.get("icp") == vec({0.1, 0.8, 0.3}));
+  CHECK(t.objects() == 3);
+}
+
+TEST_CASE("Fusion::with_weights: a weight per term, DimensionMismatch naming \"weights\" otherwise") {
+  const Fusion icp = Fusion::classifier("icp"), bow = Fusion::classifier("bow"), iclap = Fusion::classifier("iclap");
+  const Fusion sum = 0.2 * icp + 0.3 * bow + 0.5 * iclap;
+  // Too few (even summing to 1), none, too many.
+  for (const std::vector<double>& w :
+       {std::vector<double>{0.5, 0.5}, std::vector<double>{}, std::vector<double>{0.25, 0.25, 0.25, 0.25}}) {
+    CAPTURE(w.size());
+    try {
+      (void)sum.with_weights(w);
+      FAIL("weights of the wrong count were taken");
+    } catch (const DimensionMismatch& e) {
+      CHECK(e.argument() == "weights");
+      CHECK(e.expected() == 3);
+      CHECK(e.actual() == static_cast<std::ptrdiff_t>(w.size()));
+      CHECK(std::string(e.what()) == "weights: has dimension " + std::to_string(w.size()) + ", expected 3");
+    }
+  }
+  // The right count gives the same sum with the new weights; the original is unchanged.
+  const Fusion reweighted = sum.with_weights({0.6, 0.3, 0.1});
+  CHECK(reweighted.to_string() == "0.6*icp+0.3*bow+0.1*iclap");
+  CHECK(sum.to_string() == "0.2*icp+0.3*bow+0.5*iclap");
+  // Only a weighted sum has weights.
+  CHECK(error_of([&] { (void)(icp * bow).with_weights({0.5, 0.5}); }) ==
+        "weights | weights: only a weighted sum has weights: icp*bow");
 }
 
 TEST_CASE("method names, parsing and the weight grid") {

@@ -72,11 +72,13 @@ class AtomicFileWriter {
   /// it cannot.
   explicit AtomicFileWriter(std::string path, std::ios::openmode mode = std::ios::out)
       : path_(std::move(path)), target_(resolve_links(path_)), temp_(create_temporary(path_, target_)) {
+    errno = 0;  // a refused open mode (std::ios::app) fails without setting it
     out_.open(temp_, mode | std::ios::out | std::ios::trunc);
     if (!out_) {
       const int err = errno;
       std::remove(temp_.c_str());
-      throw IoError(path_, std::string("cannot open for writing: ") + std::strerror(err));
+      throw IoError(path_, std::string("cannot open for writing: ") +
+                               (err != 0 ? std::strerror(err) : "the stream refused the open mode"));
     }
   }
   AtomicFileWriter(const AtomicFileWriter&) = delete;
