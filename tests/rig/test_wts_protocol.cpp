@@ -1,20 +1,29 @@
 // SPDX-License-Identifier: MIT
 // The WTS codec: checksum, command encoding (golden vectors of
-// shared/spec/wts-protocol.md), grids, matrix info.
+// shared/spec/wts-protocol.md), command names, grids, matrix info; WtsSensor
+// over a scripted in-memory stream (frame queue, command checks, stopping).
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "iclap/rig/crc16.hpp"
 #include "iclap/rig/wts_message.hpp"
 #include "iclap/rig/wts_protocol.hpp"
+#include "iclap/rig/wts_sensor.hpp"
 #include "rig_test_util.hpp"
 
 using namespace iclap::rig;
 using iclap::rig::test::hex;
+using namespace std::chrono_literals;
 
 TEST_CASE("WTS CRC: table entries and golden vector") {
   using crc16_detail::kTable;
@@ -170,4 +179,215 @@ TEST_CASE("Frame and reply encoding round trip through bytes") {
   CHECK(get_u16(&payload[5 + 10]) == 4095);  // row 1, col 2: row-major
   const Bytes r = encode_reply(Reply{0x23, 0x0005, {9}});
   CHECK(check_packet(r, 0x23) == Bytes{5, 0, 9});
+}
+
+TEST_CASE("WTS command names: each id has its own, the protocol spec's") {
+  // shared/spec/wts-protocol.md, "Commands": id and name.
+  const std::pair<std::uint8_t, std::string> spec[] = {
+      {0x00, "frame data"},         {0x06, "loop"},
+      {0x20, "read single frame"},  {0x21, "start periodic frames"},
+      {0x22, "stop periodic frames"}, {0x23, "tare"},
+      {0x30, "get matrix info"},    {0x34, "set threshold"},
+      {0x35, "get threshold"},      {0x36, "set front-end gain"},
+      {0x37, "get front-end gain"}, {0x38, "get sensor type"},
+      {0x46, "read temperature"},   {0x50, "get system info"},
+  };
+  const std::uint8_t ids[] = {wts_id::kFrameData,       wts_id::kLoop,           wts_id::kReadSingleFrame,
+                              wts_id::kStartPeriodicFrames, wts_id::kStopPeriodicFrames, wts_id::kTare,
+                              wts_id::kGetMatrixInfo,   wts_id::kSetThreshold,   wts_id::kGetThreshold,
+                              wts_id::kSetFrontEndGain, wts_id::kGetFrontEndGain, wts_id::kGetSensorType,
+                              wts_id::kReadTemperature, wts_id::kGetSystemInfo};
+  REQUIRE(std::size(ids) == std::size(spec));
+  for (std::size_t i = 0; i < std::size(spec); ++i) {
+    CAPTURE(i);
+    CHECK(ids[i] == spec[i].first);
+    CHECK(wts_command_name(ids[i]) == spec[i].second);
+  }
+  // Every one of the 256 ids has a non-empty name of its own; ids without a
+  // command read "command 0xNN" (two lower-case hex digits).
+  std::set<std::string> names;
+  for (int id = 0; id < 256; ++id) {
+    CAPTURE(id);
+    const std::string name = wts_command_name(static_cast<std::uint8_t>(id));
+    CHECK_FALSE(name.empty());
+    CHECK(names.insert(name).second);
+    const bool named = std::any_of(std::begin(spec), std::end(spec), [&](const auto& c) { return c.first == id; });
+    if (named) continue;
+    char expected[16];
+    std::snprintf(expected, sizeof expected, "command 0x%02x", static_cast<unsigned>(id));
+    CHECK(name == expected);
+  }
+  CHECK(names.size() == 256);
+}
+
+namespace {
+
+// A sensor's side of the wire, scripted: `incoming` is handed out as it is
+// read (everything at once, no waiting), every write is kept.
+class ScriptedStream final : public ByteStream {
+ public:
+  std::size_t read(std::uint8_t* buffer, std::size_t capacity, std::chrono::milliseconds) override {
+    const std::size_t n = std::min(capacity, incoming.size() - at);
+    std::copy_n(incoming.begin() + static_cast<std::ptrdiff_t>(at), n, buffer);
+    at += n;
+    return n;
+  }
+  void write(const std::uint8_t* data, std::size_t size, std::chrono::milliseconds) override {
+    ++write_calls;
+    if (gone) throw DeviceLost(name_, "device gone");
+    written.emplace_back(data, data + size);
+  }
+  void close() noexcept override {}
+  bool is_open() const noexcept override { return true; }
+  const std::string& name() const noexcept override { return name_; }
+  void push(const Bytes& b) { incoming.insert(incoming.end(), b.begin(), b.end()); }
+
+  Bytes incoming;
+  std::size_t at = 0;
+  std::vector<Bytes> written;
+  std::size_t write_calls = 0;
+  bool gone = false;  ///< writes throw DeviceLost
+
+ private:
+  std::string name_ = "scripted";
+};
+
+// A 2x3 frame whose taxels all read `timestamp_ms` (so frames are told apart).
+TactileFrame numbered_frame(std::uint32_t timestamp_ms) {
+  TactileFrame f;
+  f.timestamp_ms = timestamp_ms;
+  f.texels = TexelImage::Constant(2, 3, static_cast<std::uint16_t>(timestamp_ms));
+  return f;
+}
+
+WtsSensor::Settings grid_2x3() {
+  WtsSensor::Settings st;
+  st.parser.grid = Grid{2, 3};
+  return st;
+}
+
+}  // namespace
+
+TEST_CASE("WtsSensor: frames beyond the queue while a reply is awaited drop the oldest, counted") {
+  ScriptedStream s;
+  WtsSensor::Settings st = grid_2x3();
+  st.max_queued_frames = 3;
+  WtsSensor sensor(s, st);
+  // Seven frames reach the host before the reply to "tare".
+  for (std::uint32_t t = 1; t <= 7; ++t) s.push(encode_frame(numbered_frame(t)));
+  s.push(encode_reply(Reply{wts_id::kTare, 0, {}}));
+  const Reply reply = sensor.request(encode_tare());
+  CHECK(reply.id == wts_id::kTare);
+  CHECK(reply.ok());
+  CHECK(sensor.frames_overflowed() == 4);
+  // The newest three are kept, in order.
+  for (std::uint32_t t : {5u, 6u, 7u}) {
+    CAPTURE(t);
+    const auto f = sensor.next_frame(0ms);
+    REQUIRE(f);
+    CHECK(f->timestamp_ms == t);
+    CHECK((f->texels.array() == static_cast<std::uint16_t>(t)).all());
+  }
+  CHECK_FALSE(sensor.next_frame(0ms));
+  // The count adds up over requests; a reader that keeps up loses nothing.
+  for (std::uint32_t t = 8; t <= 11; ++t) s.push(encode_frame(numbered_frame(t)));
+  s.push(encode_reply(Reply{wts_id::kTare, 0, {}}));
+  sensor.request(encode_tare());
+  CHECK(sensor.frames_overflowed() == 5);
+  for (std::uint32_t t = 12; t <= 20; ++t) s.push(encode_frame(numbered_frame(t)));
+  std::vector<std::uint32_t> read;
+  while (const auto f = sensor.next_frame(0ms)) read.push_back(f->timestamp_ms);
+  CHECK(read == std::vector<std::uint32_t>{9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20});
+  CHECK(sensor.frames_overflowed() == 5);
+  CHECK(s.written == std::vector<Bytes>{encode_tare(), encode_tare()});
+}
+
+TEST_CASE("WtsSensor: a command that is not an encoded packet is refused, nothing sent") {
+  ScriptedStream s;
+  WtsSensor::Settings st = grid_2x3();
+  st.reply_timeout = 1ms;  // a command sent by mistake times out at once
+  st.attempts = 1;
+  WtsSensor sensor(s, st);
+  // `body` and its CRC: each packet below is wrong in one way only.
+  const auto with_crc = [](Bytes body) {
+    put_u16(body, wts_crc16(body.data(), body.size()));
+    return body;
+  };
+  const Bytes tare = encode_tare();
+  Bytes bad_crc = encode_loop({1, 2, 3});
+  bad_crc.back() ^= 0x01;
+  const std::pair<const char*, Bytes> bad[] = {
+      {"empty", Bytes{}},
+      {"shorter than a header and CRC", Bytes(tare.begin(), tare.end() - 1)},
+      {"first preamble byte", with_crc({0x55, 0xAA, 0xAA, 0x23, 0, 0})},
+      {"second preamble byte", with_crc({0xAA, 0xAB, 0xAA, 0x23, 0, 0})},
+      {"third preamble byte", with_crc({0xAA, 0xAA, 0x00, 0x23, 0, 0})},
+      {"payload shorter than its size field", with_crc({0xAA, 0xAA, 0xAA, 0x06, 3, 0, 1, 2})},
+      {"payload longer than its size field", with_crc({0xAA, 0xAA, 0xAA, 0x06, 1, 0, 1, 2})},
+      {"wrong CRC", bad_crc},
+  };
+  for (const auto& c : bad) {
+    const std::string what = c.first;
+    const Bytes& command = c.second;
+    CAPTURE(what);
+    CHECK_THROWS_WITH_AS(sensor.request(command), "command: is not an encoded WTS packet", iclap::InvalidArgument);
+    CHECK_THROWS_WITH_AS(sensor.request_ok(command), "command: is not an encoded WTS packet", iclap::InvalidArgument);
+  }
+  CHECK(s.write_calls == 0);
+  // A real packet goes out as it is.
+  s.push(encode_reply(Reply{wts_id::kLoop, 0, {1, 2, 3}}));
+  CHECK(sensor.request_ok(encode_loop({1, 2, 3})).payload == Bytes{1, 2, 3});
+  CHECK(s.written == std::vector<Bytes>{encode_loop({1, 2, 3})});
+}
+
+TEST_CASE("WtsSensor: stop_periodic_frames is false when the sensor refuses or stays silent") {
+  ScriptedStream s;
+  WtsSensor::Settings st = grid_2x3();
+  st.reply_timeout = 1ms;
+  st.attempts = 2;
+  WtsSensor sensor(s, st);
+  s.push(encode_reply(Reply{wts_id::kStartPeriodicFrames, 0, {}}));
+  sensor.start_periodic_frames(5.0);
+  CHECK(sensor.streaming());
+  // Refused (status 3): the error request_ok() throws names the command ...
+  s.push(encode_reply(Reply{wts_id::kStopPeriodicFrames, 3, {}}));
+  try {
+    sensor.request_ok(encode_stop_periodic_frames());
+    FAIL_CHECK("a refusal was accepted");
+  } catch (const WtsCommandError& e) {
+    CHECK(e.id() == wts_id::kStopPeriodicFrames);
+    CHECK(e.status() == 3);
+    CHECK(std::string(e.what()) == "sensor refused 'stop periodic frames' with status 3");
+  }
+  // ... and stop_periodic_frames() reports it as false.
+  s.push(encode_reply(Reply{wts_id::kStopPeriodicFrames, 3, {}}));
+  CHECK_FALSE(sensor.stop_periodic_frames());
+  CHECK_FALSE(sensor.streaming());
+  // Silent: false after every attempt (request() would time out).
+  const std::size_t sent = s.written.size();
+  CHECK_FALSE(sensor.stop_periodic_frames());
+  CHECK(s.written.size() == sent + 2);
+  CHECK(s.written.back() == encode_stop_periodic_frames());
+  CHECK_THROWS_WITH_AS(sensor.request(encode_stop_periodic_frames()),
+                       "scripted: no reply to 'stop periodic frames' after 2 attempt(s) of 1 ms", WtsTimeout);
+  // Acknowledged: true.
+  s.push(encode_reply(Reply{wts_id::kStopPeriodicFrames, 0, {}}));
+  CHECK(sensor.stop_periodic_frames());
+  CHECK_FALSE(sensor.lost());
+}
+
+TEST_CASE("WtsSensor: the destructor's stop command is best effort") {
+  ScriptedStream s;
+  {
+    WtsSensor sensor(s, grid_2x3());
+    s.push(encode_reply(Reply{wts_id::kStartPeriodicFrames, 0, {}}));
+    sensor.start_periodic_frames(5.0);
+    REQUIRE(sensor.streaming());
+    s.gone = true;  // the stop command's write throws DeviceLost: ignored
+  }
+  CHECK(s.write_calls == 2);  // start, then the attempted stop
+  // Without a stream it started, the destructor sends nothing.
+  s.gone = false;
+  { WtsSensor idle(s, grid_2x3()); }
+  CHECK(s.write_calls == 2);
 }

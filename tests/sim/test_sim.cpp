@@ -11,9 +11,11 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
+#include <typeinfo>
 #include <vector>
 
 #include "iclap/data/csv_writer.hpp"
@@ -532,4 +534,280 @@ TEST_CASE("mesh objects: a mesh of zero-area triangles is refused by name") {
       CHECK(e.reason() == "every one of its 4 triangles has zero area (no surface)");
     }
   }
+}
+
+TEST_CASE("settings: exploration ranges between settings are refused, naming the setting and the value") {
+  struct Bad {
+    const char* argument;
+    const char* reason;
+    void (*apply)(iclap::ExplorationSettings&);
+  };
+  const Bad cases[] = {
+      {"exploration.turn_probability", "must be in [0, 1], got 1.5",
+       [](iclap::ExplorationSettings& e) { e.turn_probability = 1.5; }},
+      {"exploration.turn_probability", "must be in [0, 1], got -0.25",
+       [](iclap::ExplorationSettings& e) { e.turn_probability = -0.25; }},
+      {"exploration.turn_probability", "must be in [0, 1], got nan",
+       [](iclap::ExplorationSettings& e) { e.turn_probability = std::nan(""); }},
+      {"exploration.sweep_length_max", "must be >= sweep_length_min, got 0.029",
+       [](iclap::ExplorationSettings& e) {
+         e.sweep_length_min = 0.03;
+         e.sweep_length_max = 0.029;
+       }},
+      {"exploration.force_max", "must be >= force_min, got 1.5",
+       [](iclap::ExplorationSettings& e) {
+         e.force_min = 2;
+         e.force_max = 1.5;
+       }},
+      {"exploration.frames_spread", "must be in [0, 1), got 1",
+       [](iclap::ExplorationSettings& e) { e.frames_spread = 1; }},
+      {"exploration.frames_spread", "must be in [0, 1), got -0.1",
+       [](iclap::ExplorationSettings& e) { e.frames_spread = -0.1; }},
+  };
+  const iclap::SimObject object = iclap::builtin_object(iclap::builtin_object_names().front());
+  for (const Bad& b : cases) {
+    const std::string argument = b.argument, reason = b.reason;
+    CAPTURE(argument);
+    CAPTURE(reason);
+    iclap::SimulationSettings s;
+    b.apply(s.exploration);
+    // Directly, and before any simulation.
+    for (int through_simulation = 0; through_simulation < 2; ++through_simulation) {
+      try {
+        if (through_simulation) (void)iclap::simulate_exploration(object, s, 42, 0);
+        else s.exploration.validate();
+        FAIL_CHECK("accepted");
+      } catch (const iclap::InvalidArgument& e) {
+        CHECK(typeid(e) == typeid(iclap::InvalidArgument));
+        CHECK(e.argument() == argument);
+        CHECK(e.reason() == reason);
+      }
+    }
+  }
+  // The ends of the ranges are fine: equal bounds, never or always turning,
+  // no spread.
+  iclap::ExplorationSettings e;
+  e.turn_probability = 0;
+  e.sweep_length_max = e.sweep_length_min;
+  e.force_max = e.force_min;
+  e.frames_spread = 0;
+  CHECK_NOTHROW(e.validate());
+  e.turn_probability = 1;
+  e.frames_spread = 0.999;
+  CHECK_NOTHROW(e.validate());
+}
+
+TEST_CASE("exploration: with no start where the pad fits, the pad is pressed straight down on the highest point") {
+  // A card 0.8 mm thick: lower than the pad may come to the table (1 mm), so
+  // no start point on it passes (flat on the top face, the pad would be too
+  // close to the table; on the sides it would be in it). The operator falls
+  // back to lowering the pad, facing straight down, onto the highest vertex
+  // (a corner of the top face), and the exploration still feels the card.
+  iclap::SimulationSettings s = exact_arm_still_object();
+  s.exploration.max_frames_mean = 60;
+  s.exploration.frames_spread = 0;
+  const iclap::SimObject card = iclap::make_sim_object("card", iclap::make_box({0.06, 0.04, 0.0008}), false);
+  const double top = card.shape.bounds().max().z();
+  REQUIRE(top == doctest::Approx(0.0008));
+  REQUIRE(top < s.exploration.table_clearance);
+  const auto frames = iclap::simulate_exploration(card, s, 3, 0);
+  REQUIRE(frames.size() == 60);
+  CHECK_FALSE(iclap::is_contact(frames.front()));
+  CHECK(frames.front().position.z() == doctest::Approx(top + s.exploration.clearance));
+  std::size_t contacts = 0;
+  for (const auto& f : frames) {
+    CAPTURE(f.frame);
+    // Every move is vertical, above a corner of the top face, pad facing down.
+    CHECK(std::abs(f.position.x()) == doctest::Approx(0.03));
+    CHECK(std::abs(f.position.y()) == doctest::Approx(0.02));
+    CHECK(f.position.x() == frames.front().position.x());
+    CHECK(f.position.y() == frames.front().position.y());
+    REQUIRE(f.orientation.has_value());
+    CHECK(f.orientation->toRotationMatrix().col(2).isApprox(Eigen::Vector3d(0, 0, -1), 1e-12));
+    if (!iclap::is_contact(f)) continue;
+    ++contacts;
+    // In contact the pad rests on the top face, the foam compressed.
+    CHECK(f.position.z() < top);
+    CHECK(f.position.z() > top - s.sensor.foam_thickness);
+  }
+  CHECK(contacts >= 10);
+}
+
+TEST_CASE("exploration: an approach that feels nothing gives up, lifts and tries again") {
+  // An open mesh seen only from below: one triangle 10 mm above the table,
+  // facing down. No start point faces up, so the pad is lowered onto the
+  // highest point (the first vertex); it feels nothing there (the back of a
+  // face is not felt) and, 20 mm past the hover clearance, lifts, moves
+  // through the air and comes down again.
+  iclap::TriangleMesh m;
+  m.vertices.resize(3, 3);
+  m.vertices << 0, 0.03, 0,  //
+      0, 0, 0.03,            //
+      0.01, 0.01, 0.01;
+  m.triangles.resize(3, 1);
+  m.triangles << 0, 2, 1;
+  REQUIRE(m.area_normal(0).z() < 0);
+  const iclap::SimObject canopy{"canopy", iclap::MeshBvh(m)};
+  iclap::SimulationSettings s = exact_arm_still_object();
+  s.exploration.max_frames_mean = 60;
+  s.exploration.frames_spread = 0;
+  const auto frames = iclap::simulate_exploration(canopy, s, 3, 0);
+  REQUIRE(frames.size() == 60);
+  const double hover = 0.01 + s.exploration.clearance;
+  const double step = s.exploration.approach_speed / s.exploration.frame_rate;
+  const double give_up = s.exploration.clearance + 0.02;  // approach length before lifting
+  CHECK(frames.front().position.z() == doctest::Approx(hover));
+  double lowest = std::numeric_limits<double>::infinity();
+  int lifts = 0;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const auto& f = frames[k];
+    CAPTURE(f.frame);
+    CHECK(f.pressures.maxCoeff() == 0);
+    CHECK(f.position.x() == 0);
+    CHECK(f.position.y() == 0);
+    // Never lowered further than the approach length (and one step).
+    CHECK(f.position.z() >= hover - give_up - step - 1e-9);
+    lowest = std::min(lowest, f.position.z());
+    if (k >= 2 && frames[k - 1].position.z() < frames[k - 2].position.z() &&
+        f.position.z() > frames[k - 1].position.z())
+      ++lifts;  // going down, then up
+  }
+  CHECK(lowest <= hover - give_up);  // the whole approach was tried
+  CHECK(lifts >= 2);
+}
+
+namespace {
+iclap::ParseError manifest_error(const std::string& text) {
+  try {
+    (void)iclap::detail::ManifestParser(text, "meshes.json").parse();
+  } catch (const iclap::ParseError& e) {
+    return e;
+  }
+  FAIL_CHECK("accepted: " << text);
+  return iclap::ParseError("", 0, "accepted");
+}
+}  // namespace
+
+TEST_CASE("mesh objects: manifest strings decode JSON escapes; malformed escapes are refused") {
+  auto parse = [](const std::string& text) { return iclap::detail::ManifestParser(text, "meshes.json").parse(); };
+  // The file name of a one-entry manifest whose "file" is written `json`.
+  auto file_name = [&](const std::string& json) {
+    const auto scales = parse("[{\"file\": \"" + json + "\", \"scale_to_metres\": 0.5}]");
+    REQUIRE(scales.size() == 1);
+    CHECK(scales.begin()->second == 0.5);
+    return scales.begin()->first;
+  };
+  CHECK(file_name(R"(plain.obj)") == "plain.obj");
+  CHECK(file_name(R"(a\"b.obj)") == "a\"b.obj");
+  CHECK(file_name(R"(dir\\x.obj)") == "dir\\x.obj");
+  CHECK(file_name(R"(dir\/x.obj)") == "dir/x.obj");
+  CHECK(file_name(R"(\b\f\n\r\t)") == "\b\f\n\r\t");
+  // \u escapes decode to UTF-8 (Python's json.dump writes every non-ASCII
+  // character so): one, two and three bytes, and a surrogate pair.
+  CHECK(file_name(R"(\u0041\u004a.obj)") == "AJ.obj");
+  CHECK(file_name(R"(bl\u00f6ck.obj)") == "bl\xc3\xb6" "ck.obj");
+  CHECK(file_name(R"(\u20AC\u20ac)") == "\xe2\x82\xac\xe2\x82\xac");
+  CHECK(file_name(R"(\ud83d\ude00.ply)") == "\xf0\x9f\x98\x80.ply");
+  // Names that differ only in an escaped character are two files, not one
+  // listed twice.
+  const auto two = parse(R"([{"file": "\u00e9.obj", "scale_to_metres": 1},)"
+                         R"( {"file": "\u00e8.obj", "scale_to_metres": 0.001}])");
+  CHECK(two.size() == 2);
+  CHECK(two.at("\xc3\xa9.obj") == 1);
+  CHECK(two.at("\xc3\xa8.obj") == 0.001);
+  // Escapes in members that are skipped, and in keys.
+  CHECK(parse(R"([{"n\u006fte": "tab\there \u00e9 \"q\"", "file": "a.obj", "scale_to_metres": 1}])").at("a.obj") == 1);
+  CHECK(parse(R"([{"fil\u0065": "a.obj", "scale_to_metres": 2}])").at("a.obj") == 2);
+
+  // Malformed escapes: a ParseError at the line of the string, saying why.
+  struct Bad {
+    std::string json;  // the "file" value
+    std::string reason;
+  };
+  const Bad bad[] = {
+      {R"(a\x41.obj)", "invalid escape '\\x' in a string"},
+      {R"(a\'.obj)", "invalid escape '\\'' in a string"},
+      {"a\\\n.obj", "invalid escape '\\\\x0a' in a string"},  // not a way around "line break inside a string"
+      {R"(a\uZZZZ.obj)", "invalid \\u escape (4 hex digits expected)"},
+      {R"(a\u12.obj)", "invalid \\u escape (4 hex digits expected)"},
+      {R"(a\u12)", "invalid \\u escape (4 hex digits expected)"},  // would swallow the closing quote
+      {R"(a\u-123.obj)", "invalid \\u escape (4 hex digits expected)"},
+      {R"(\ud83d.obj)", "unpaired surrogate in a \\u escape"},
+      {R"(\ud83d\u0041)", "unpaired surrogate in a \\u escape"},
+      {R"(\ude00x)", "unpaired surrogate in a \\u escape"},
+  };
+  for (const Bad& b : bad) {
+    CAPTURE(b.json);
+    const iclap::ParseError e =
+        manifest_error("[\n{\"file\": \"" + b.json + "\", \"scale_to_metres\": 1}]");
+    CHECK(e.file() == "meshes.json");
+    CHECK(e.line() == 2);
+    CHECK(e.reason() == b.reason);
+  }
+  // Cut short inside an escape.
+  CHECK(manifest_error(R"([{"file": "a\u00)").reason() == "truncated \\u escape");
+  CHECK(manifest_error(R"([{"file": "a\)").reason() == "expected '\"'");
+
+  // Through load_mesh_objects: a file with a non-ASCII name, listed with a
+  // \u escape, gets its scale.
+  const std::string dir = std::string(ICLAP_TEST_FIXTURES) + "/mesh/objects";
+  const fs::path tmp =
+      fs::temp_directory_path() / ("iclap_test_sim_utf8_" + std::to_string(static_cast<long>(::getpid())));
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  fs::copy_file(dir + "/block.obj", tmp / "bl\xc3\xb6" "ck.obj");
+  std::ofstream(tmp / "meshes.json") << "[{\"file\": \"bl\\u00f6ck.obj\", \"scale_to_metres\": 0.001}]";
+  const auto objects = iclap::load_mesh_objects(tmp.string());
+  REQUIRE(objects.size() == 1);
+  CHECK(objects[0].name == "bl\xc3\xb6" "ck");
+  CHECK(objects[0].shape.bounds().sizes().maxCoeff() == doctest::Approx(0.06e-3));
+  fs::remove_all(tmp);
+}
+
+TEST_CASE("mesh objects: manifest values of every JSON kind; empty arrays and objects") {
+  auto parse = [](const std::string& text) { return iclap::detail::ManifestParser(text, "meshes.json").parse(); };
+  CHECK(parse("[]").empty());
+  CHECK(parse(" \n[ \t]\n").empty());
+  CHECK(parse("[{}]").empty());
+  CHECK(parse("[{ }, {\"file\": \"a.obj\", \"scale_to_metres\": 2}]") == std::map<std::string, double>{{"a.obj", 2.0}});
+  // Members other than "file" and "scale_to_metres" are skipped whatever
+  // their kind.
+  const auto scales = parse(
+      R"([{"closed": false, "file": "a.obj", "watertight": true, "scale_to_metres": 1e-3, "licence": null,)"
+      R"( "tags": [], "meta": {}, "aabb": [-1.5, 2E2, {"k": [false, true, null, "s"]}], "bytes": 12}])");
+  CHECK(scales == std::map<std::string, double>{{"a.obj", 0.001}});
+  // Misspelt literals and text after the array are errors.
+  CHECK(manifest_error(R"([{"closed": fals}])").reason() == "expected a number");
+  CHECK(manifest_error(R"([{"closed": nul, "file": "a.obj"}])").reason() == "expected a number");
+  CHECK(manifest_error(R"([{"closed": falsey}])").reason() == "expected '}'");
+  CHECK(manifest_error("[] []").reason() == "unexpected text after the top-level array");
+  CHECK(manifest_error("[{}").reason() == "expected ']'");
+}
+
+TEST_CASE("mesh objects: an invalid object file is refused naming its path") {
+  const fs::path tmp =
+      fs::temp_directory_path() / ("iclap_test_sim_bad_" + std::to_string(static_cast<long>(::getpid())));
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  auto load_error = [&](const fs::path& file) {
+    try {
+      (void)iclap::load_mesh_objects(tmp.string(), iclap::LengthUnit::metres);
+    } catch (const iclap::InvalidArgument& e) {
+      CHECK(typeid(e) == typeid(iclap::InvalidArgument));
+      CHECK(e.argument() == file.string());
+      return e.reason();
+    }
+    FAIL("accepted " << file);
+    return std::string();
+  };
+  // A name the CSV cannot hold (a tetrahedron named "a,b").
+  const fs::path comma = tmp / "a,b.obj";
+  std::ofstream(comma) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  CHECK(load_error(comma) == "name: object name 'a,b' contains a comma");
+  fs::remove(comma);
+  // A flat mesh: a square, no volume to rest on the table.
+  const fs::path flat = tmp / "flat.obj";
+  std::ofstream(flat) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n";
+  CHECK(load_error(flat).find("all points lie on a plane") != std::string::npos);
+  fs::remove_all(tmp);
 }

@@ -11,6 +11,7 @@
 #include <set>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "iclap/search/kdtree.hpp"
@@ -512,6 +513,29 @@ TEST_CASE("word ordering: neighbouring ids are neighbouring centroids") {
           0, s * y, -s * y, s * y, -s * y, 0;
       CHECK(word_order(c, WordOrdering::PrincipalAxis) == std::vector<Index>{5, 3, 4, 1, 2, 0});
     }
+}
+
+TEST_CASE("word ordering: every ordering has its documented, distinct name") {
+  const std::pair<WordOrdering, std::string> names[] = {
+      {WordOrdering::None, "none"},
+      {WordOrdering::PrincipalAxis, "principal_axis"},
+      {WordOrdering::NearestNeighbourChain, "nearest_neighbour_chain"},
+  };
+  std::set<std::string> seen;
+  for (const auto& entry : names) {
+    const WordOrdering o = entry.first;
+    const std::string& name = entry.second;
+    CAPTURE(name);
+    REQUIRE(to_string(o) != nullptr);
+    CHECK(std::string(to_string(o)) == name);
+    CHECK(seen.insert(to_string(o)).second);
+  }
+  CHECK(seen.size() == 3);
+  // A value outside the enumeration reads "unknown", never a null pointer
+  // nor another ordering's name.
+  const char* other = to_string(static_cast<WordOrdering>(7));
+  REQUIRE(other != nullptr);
+  CHECK(std::string(other) == "unknown");
 }
 
 // ---------------------------------------------------------------------------

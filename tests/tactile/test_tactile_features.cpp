@@ -5,7 +5,9 @@
 
 #include <cmath>
 #include <limits>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "iclap/tactile/tactile.hpp"
@@ -147,6 +149,29 @@ TEST_CASE("pressure normalisations") {
   CHECK(normalization_factor(TactileImage(tiny * 1e10), PressureNormalization::Max) == doctest::Approx(0.5e300));
   CHECK_THROWS_WITH_AS(normalized(image, PressureNormalization::FullScale, 1e-310),
                        doctest::Contains("finite reciprocal"), InvalidArgument);
+}
+
+TEST_CASE("pressure normalisations: every one has its documented, distinct name") {
+  const std::pair<PressureNormalization, std::string> names[] = {
+      {PressureNormalization::None, "none"}, {PressureNormalization::FullScale, "full_scale"},
+      {PressureNormalization::Max, "max"},   {PressureNormalization::Sum, "sum"},
+      {PressureNormalization::L2, "l2"},
+  };
+  std::set<std::string> seen;
+  for (const auto& entry : names) {
+    const PressureNormalization n = entry.first;
+    const std::string& name = entry.second;
+    CAPTURE(name);
+    REQUIRE(to_string(n) != nullptr);
+    CHECK(std::string(to_string(n)) == name);
+    CHECK(seen.insert(to_string(n)).second);
+  }
+  CHECK(seen.size() == 5);
+  // A value outside the enumeration (a cast from a corrupt setting) reads
+  // "unknown", never a null pointer nor another normalisation's name.
+  const char* other = to_string(static_cast<PressureNormalization>(99));
+  REQUIRE(other != nullptr);
+  CHECK(std::string(other) == "unknown");
 }
 
 // ---------------------------------------------------------------------------

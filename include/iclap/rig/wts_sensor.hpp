@@ -88,8 +88,13 @@ class WtsSensor {
   /// Sends `command` (one packet from wts_protocol.hpp) and returns the
   /// reply with the same id, whatever its status. Retries on silence, then
   /// throws WtsTimeout naming the command. DeviceLost passes through.
+  /// Throws InvalidArgument, sending nothing, if `command` is not exactly one
+  /// packet (preamble, size field matching its length, CRC).
   Reply request(const Bytes& command) {
-    if (command.size() < kWtsHeaderSize + kWtsCrcSize || command[0] != kWtsPreambleByte)
+    const std::size_t n = command.size();
+    if (n < kWtsHeaderSize + kWtsCrcSize || command[0] != kWtsPreambleByte || command[1] != kWtsPreambleByte ||
+        command[2] != kWtsPreambleByte || n != kWtsHeaderSize + get_u16(&command[4]) + kWtsCrcSize ||
+        get_u16(&command[n - kWtsCrcSize]) != wts_crc16(command.data(), n - kWtsCrcSize))
       throw InvalidArgument("command", "is not an encoded WTS packet");
     const std::uint8_t id = command[3];
     for (int attempt = 0; attempt < settings_.attempts; ++attempt) {

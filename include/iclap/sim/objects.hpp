@@ -51,7 +51,8 @@ namespace detail {
 
 /// Just enough JSON to read a meshes.json manifest: values are parsed and
 /// checked; only the top-level array's objects' "file" and
-/// "scale_to_metres" members are kept.
+/// "scale_to_metres" members are kept. String escapes are decoded (\uXXXX
+/// to UTF-8); an invalid one is a ParseError.
 class ManifestParser {
  public:
   ManifestParser(std::string_view text, std::string name) : t_(text), name_(std::move(name)) {}
@@ -139,11 +140,24 @@ class ManifestParser {
         if (i_ >= t_.size()) break;
         const char e = t_[i_];
         if (e == 'u') {
-          if (i_ + 4 >= t_.size()) fail("truncated \\u escape");
-          s += '?';  // not needed for file names; kept as a placeholder
-          i_ += 4;
+          // UTF-8, as the file names are (Python's json.dump writes every
+          // non-ASCII character as \uXXXX, surrogate pairs beyond U+FFFF).
+          std::uint32_t c = hex4();
+          if (c >= 0xD800 && c <= 0xDBFF && t_.substr(i_ + 1, 2) == "\\u") {
+            i_ += 2;
+            const std::uint32_t low = hex4();
+            if (low < 0xDC00 || low > 0xDFFF) fail("unpaired surrogate in a \\u escape");
+            c = 0x10000 + ((c - 0xD800) << 10) + (low - 0xDC00);
+          } else if (c >= 0xD800 && c <= 0xDFFF) {
+            fail("unpaired surrogate in a \\u escape");
+          }
+          append_utf8(s, c);
+        } else if (e == '"' || e == '\\' || e == '/') {
+          s += e;
+        } else if (e == 'n' || e == 't' || e == 'r' || e == 'b' || e == 'f') {
+          s += e == 'n' ? '\n' : e == 't' ? '\t' : e == 'r' ? '\r' : e == 'b' ? '\b' : '\f';
         } else {
-          s += e == 'n' ? '\n' : e == 't' ? '\t' : e == 'r' ? '\r' : e == 'b' ? '\b' : e == 'f' ? '\f' : e;
+          fail("invalid escape " + quote_text(std::string{'\\', e}) + " in a string");
         }
         ++i_;
         continue;
@@ -152,6 +166,34 @@ class ManifestParser {
     }
     expect('"');
     return s;
+  }
+  // The 4 hex digits after the 'u' at i_; leaves i_ on the last of them.
+  std::uint32_t hex4() {
+    if (i_ + 4 >= t_.size()) fail("truncated \\u escape");
+    std::uint32_t c = 0;
+    for (int k = 0; k < 4; ++k) {
+      const char h = t_[++i_];
+      if (!std::isxdigit(static_cast<unsigned char>(h))) fail("invalid \\u escape (4 hex digits expected)");
+      c = c * 16 + static_cast<std::uint32_t>(h <= '9' ? h - '0' : (h | 0x20) - 'a' + 10);
+    }
+    return c;
+  }
+  static void append_utf8(std::string& s, std::uint32_t c) {
+    if (c < 0x80) {
+      s += static_cast<char>(c);
+    } else if (c < 0x800) {
+      s += static_cast<char>(0xC0 | (c >> 6));
+      s += static_cast<char>(0x80 | (c & 0x3F));
+    } else if (c < 0x10000) {
+      s += static_cast<char>(0xE0 | (c >> 12));
+      s += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+      s += static_cast<char>(0x80 | (c & 0x3F));
+    } else {
+      s += static_cast<char>(0xF0 | (c >> 18));
+      s += static_cast<char>(0x80 | ((c >> 12) & 0x3F));
+      s += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+      s += static_cast<char>(0x80 | (c & 0x3F));
+    }
   }
   double number() {
     const std::size_t start = i_;
