@@ -15,6 +15,7 @@
 #include "iclap/core/random.hpp"
 #include "iclap/recognition/live_session.hpp"
 #include "iclap/recognition/recognition.hpp"
+#include "../support/enum_names.hpp"
 #include "synthetic_objects.hpp"
 
 using namespace iclap;
@@ -121,11 +122,10 @@ TEST_CASE("live session: each update equals a from-scratch recognition of the sa
   check_live_equals_scratch(synthetic_table(1), "0.5*iclap+0.3*icp+0.2*bow", test::paper_classifiers, false);
 }
 
-TEST_CASE("live session: every stop reason has its own name") {
-  CHECK(std::string(to_string(LiveStop::kContinue)) == "continue");
-  CHECK(std::string(to_string(LiveStop::kConfident)) == "confident");
-  CHECK(std::string(to_string(LiveStop::kTouchLimit)) == "touch limit");
-  CHECK(std::string(to_string(static_cast<LiveStop>(7))) == "unknown");
+TEST_CASE("live session: every stop reason has its documented, distinct name") {
+  const std::pair<LiveStop, std::string> names[] = {
+      {LiveStop::kContinue, "continue"}, {LiveStop::kConfident, "confident"}, {LiveStop::kTouchLimit, "touch limit"}};
+  iclap::test::check_enum_names(names, static_cast<LiveStop>(7));
 }
 
 TEST_CASE("live session: the stop rule") {

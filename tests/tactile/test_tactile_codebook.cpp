@@ -16,6 +16,7 @@
 
 #include "iclap/search/kdtree.hpp"
 #include "iclap/tactile/tactile.hpp"
+#include "../support/enum_names.hpp"
 #include "synthetic_contacts.hpp"
 
 using namespace iclap;
@@ -521,21 +522,16 @@ TEST_CASE("word ordering: every ordering has its documented, distinct name") {
       {WordOrdering::PrincipalAxis, "principal_axis"},
       {WordOrdering::NearestNeighbourChain, "nearest_neighbour_chain"},
   };
-  std::set<std::string> seen;
-  for (const auto& entry : names) {
-    const WordOrdering o = entry.first;
-    const std::string& name = entry.second;
-    CAPTURE(name);
-    REQUIRE(to_string(o) != nullptr);
-    CHECK(std::string(to_string(o)) == name);
-    CHECK(seen.insert(to_string(o)).second);
-  }
-  CHECK(seen.size() == 3);
-  // A value outside the enumeration reads "unknown", never a null pointer
-  // nor another ordering's name.
-  const char* other = to_string(static_cast<WordOrdering>(7));
-  REQUIRE(other != nullptr);
-  CHECK(std::string(other) == "unknown");
+  iclap::test::check_enum_names(names, static_cast<WordOrdering>(7));
+}
+
+TEST_CASE("k-means: every stop reason has its documented, distinct name") {
+  const std::pair<KMeansStop, std::string> names[] = {
+      {KMeansStop::AssignmentsStable, "assignments_stable"},
+      {KMeansStop::RelativeChange, "relative_change"},
+      {KMeansStop::MaxIterations, "max_iterations"},
+  };
+  iclap::test::check_enum_names(names, static_cast<KMeansStop>(5));
 }
 
 // ---------------------------------------------------------------------------

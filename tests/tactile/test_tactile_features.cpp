@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "iclap/tactile/tactile.hpp"
+#include "../support/enum_names.hpp"
 #include "synthetic_contacts.hpp"
 
 using namespace iclap;
@@ -157,21 +158,7 @@ TEST_CASE("pressure normalisations: every one has its documented, distinct name"
       {PressureNormalization::Max, "max"},   {PressureNormalization::Sum, "sum"},
       {PressureNormalization::L2, "l2"},
   };
-  std::set<std::string> seen;
-  for (const auto& entry : names) {
-    const PressureNormalization n = entry.first;
-    const std::string& name = entry.second;
-    CAPTURE(name);
-    REQUIRE(to_string(n) != nullptr);
-    CHECK(std::string(to_string(n)) == name);
-    CHECK(seen.insert(to_string(n)).second);
-  }
-  CHECK(seen.size() == 5);
-  // A value outside the enumeration (a cast from a corrupt setting) reads
-  // "unknown", never a null pointer nor another normalisation's name.
-  const char* other = to_string(static_cast<PressureNormalization>(99));
-  REQUIRE(other != nullptr);
-  CHECK(std::string(other) == "unknown");
+  iclap::test::check_enum_names(names, static_cast<PressureNormalization>(99));
 }
 
 // ---------------------------------------------------------------------------

@@ -17,6 +17,7 @@
 
 #include "iclap/core/error.hpp"
 #include "iclap/core/progress.hpp"
+#include "iclap/core/utf8.hpp"
 #include "iclap/data/csv_common.hpp"
 #include "iclap/mesh/bvh.hpp"
 #include "iclap/mesh/io_common.hpp"
@@ -177,23 +178,6 @@ class ManifestParser {
       c = c * 16 + static_cast<std::uint32_t>(h <= '9' ? h - '0' : (h | 0x20) - 'a' + 10);
     }
     return c;
-  }
-  static void append_utf8(std::string& s, std::uint32_t c) {
-    if (c < 0x80) {
-      s += static_cast<char>(c);
-    } else if (c < 0x800) {
-      s += static_cast<char>(0xC0 | (c >> 6));
-      s += static_cast<char>(0x80 | (c & 0x3F));
-    } else if (c < 0x10000) {
-      s += static_cast<char>(0xE0 | (c >> 12));
-      s += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
-      s += static_cast<char>(0x80 | (c & 0x3F));
-    } else {
-      s += static_cast<char>(0xF0 | (c >> 18));
-      s += static_cast<char>(0x80 | ((c >> 12) & 0x3F));
-      s += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
-      s += static_cast<char>(0x80 | (c & 0x3F));
-    }
   }
   double number() {
     const std::size_t start = i_;
