@@ -1,18 +1,58 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // Small helpers shared by the rig tests: hex dumps, random frames and
-// replies (through iclap::Rng, fixed seeds), message comparison.
+// replies (through iclap::Rng, fixed seeds), message comparison, an
+// in-memory byte stream.
 
+#include <algorithm>
+#include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
 #include "iclap/core/random.hpp"
+#include "iclap/rig/byte_stream.hpp"
 #include "iclap/rig/wts_message.hpp"
 
 namespace iclap::rig::test {
+
+/// A sensor's side of the wire, in memory: `incoming` is handed out as it is
+/// read (everything at once, no waiting), every write is kept; counts reads
+/// and writes. With `gone`, writes throw DeviceLost.
+class MemoryStream final : public ByteStream {
+ public:
+  explicit MemoryStream(std::string name = "memory") : name_(std::move(name)) {}
+  std::size_t read(std::uint8_t* buffer, std::size_t capacity, std::chrono::milliseconds) override {
+    ++reads;
+    const std::size_t n = std::min(capacity, incoming.size() - at);
+    std::copy_n(incoming.begin() + static_cast<std::ptrdiff_t>(at), n, buffer);
+    at += n;
+    return n;
+  }
+  void write(const std::uint8_t* data, std::size_t size, std::chrono::milliseconds) override {
+    ++write_calls;
+    if (gone) throw DeviceLost(name_, "device gone");
+    written.emplace_back(data, data + size);
+  }
+  void close() noexcept override {}
+  bool is_open() const noexcept override { return true; }
+  const std::string& name() const noexcept override { return name_; }
+  void push(const Bytes& b) { incoming.insert(incoming.end(), b.begin(), b.end()); }
+
+  Bytes incoming;
+  std::size_t at = 0;
+  std::size_t reads = 0;
+  std::vector<Bytes> written;
+  std::size_t write_calls = 0;
+  bool gone = false;
+
+ private:
+  std::string name_;
+};
 
 /// "aa aa 30" for {0xAA, 0xAA, 0x30}.
 inline std::string hex(const std::vector<std::uint8_t>& bytes) {

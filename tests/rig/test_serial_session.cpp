@@ -23,6 +23,7 @@
 #include "iclap/rig/sensor_frame_source.hpp"
 #include "iclap/rig/serial_port.hpp"
 #include "iclap/rig/wts_sensor.hpp"
+#include "rig_test_util.hpp"
 
 using namespace iclap::rig;
 using namespace std::chrono_literals;
@@ -441,30 +442,6 @@ TEST_CASE("Pose specs") {
 
 namespace {
 
-// Bytes the "sensor" has sent, handed out as they are read; counts reads.
-class MemoryStream final : public ByteStream {
- public:
-  std::size_t read(std::uint8_t* buffer, std::size_t capacity, std::chrono::milliseconds) override {
-    ++reads;
-    const std::size_t n = std::min(capacity, pending.size() - at);
-    std::copy_n(pending.begin() + static_cast<std::ptrdiff_t>(at), n, buffer);
-    at += n;
-    return n;
-  }
-  void write(const std::uint8_t*, std::size_t, std::chrono::milliseconds) override {}
-  void close() noexcept override {}
-  bool is_open() const noexcept override { return true; }
-  const std::string& name() const noexcept override { return name_; }
-  void push(const Bytes& b) { pending.insert(pending.end(), b.begin(), b.end()); }
-
-  Bytes pending;
-  std::size_t at = 0;
-  std::size_t reads = 0;
-
- private:
-  std::string name_ = "memory";
-};
-
 TactileFrame small_frame(std::uint32_t timestamp_ms) {
   TactileFrame f;
   f.timestamp_ms = timestamp_ms;
@@ -475,7 +452,7 @@ TactileFrame small_frame(std::uint32_t timestamp_ms) {
 }  // namespace
 
 TEST_CASE("WtsSensor: max_queued_frames = 0 is refused") {
-  MemoryStream s;
+  test::MemoryStream s;
   WtsSensor::Settings st;
   st.parser.grid = Grid{2, 3};
   st.max_queued_frames = 0;  // used to be accepted, then pop_front() on an empty queue
@@ -495,7 +472,7 @@ TEST_CASE("WtsSensor: max_queued_frames = 0 is refused") {
 }
 
 TEST_CASE("WtsSensor: next_frame(0ms) polls the stream") {
-  MemoryStream s;
+  test::MemoryStream s;
   WtsSensor::Settings st;
   st.parser.grid = Grid{2, 3};
   WtsSensor sensor(s, st);
@@ -505,12 +482,12 @@ TEST_CASE("WtsSensor: next_frame(0ms) polls the stream") {
   auto f = sensor.next_frame(0ms);  // used to return nothing without reading
   REQUIRE(f);
   CHECK(f->timestamp_ms == 7);
-  CHECK(s.at == s.pending.size());
+  CHECK(s.at == s.incoming.size());
   CHECK_FALSE(sensor.next_frame(0ms));
 }
 
 TEST_CASE("WtsSensor: a matrix info grid no frame can carry is refused") {
-  MemoryStream s;
+  test::MemoryStream s;
   WtsSensor sensor(s);
   s.push(encode_reply(Reply{wts_id::kGetMatrixInfo, 0, encode_matrix_info_payload(MatrixInfo{0, 14, 340, 340, 4095})}));
   try {

@@ -222,36 +222,6 @@ TEST_CASE("WTS command names: each id has its own, the protocol spec's") {
 
 namespace {
 
-// A sensor's side of the wire, scripted: `incoming` is handed out as it is
-// read (everything at once, no waiting), every write is kept.
-class ScriptedStream final : public ByteStream {
- public:
-  std::size_t read(std::uint8_t* buffer, std::size_t capacity, std::chrono::milliseconds) override {
-    const std::size_t n = std::min(capacity, incoming.size() - at);
-    std::copy_n(incoming.begin() + static_cast<std::ptrdiff_t>(at), n, buffer);
-    at += n;
-    return n;
-  }
-  void write(const std::uint8_t* data, std::size_t size, std::chrono::milliseconds) override {
-    ++write_calls;
-    if (gone) throw DeviceLost(name_, "device gone");
-    written.emplace_back(data, data + size);
-  }
-  void close() noexcept override {}
-  bool is_open() const noexcept override { return true; }
-  const std::string& name() const noexcept override { return name_; }
-  void push(const Bytes& b) { incoming.insert(incoming.end(), b.begin(), b.end()); }
-
-  Bytes incoming;
-  std::size_t at = 0;
-  std::vector<Bytes> written;
-  std::size_t write_calls = 0;
-  bool gone = false;  ///< writes throw DeviceLost
-
- private:
-  std::string name_ = "scripted";
-};
-
 // A 2x3 frame whose taxels all read `timestamp_ms` (so frames are told apart).
 TactileFrame numbered_frame(std::uint32_t timestamp_ms) {
   TactileFrame f;
@@ -269,7 +239,7 @@ WtsSensor::Settings grid_2x3() {
 }  // namespace
 
 TEST_CASE("WtsSensor: frames beyond the queue while a reply is awaited drop the oldest, counted") {
-  ScriptedStream s;
+  test::MemoryStream s("scripted");
   WtsSensor::Settings st = grid_2x3();
   st.max_queued_frames = 3;
   WtsSensor sensor(s, st);
@@ -303,7 +273,7 @@ TEST_CASE("WtsSensor: frames beyond the queue while a reply is awaited drop the 
 }
 
 TEST_CASE("WtsSensor: a command that is not an encoded packet is refused, nothing sent") {
-  ScriptedStream s;
+  test::MemoryStream s("scripted");
   WtsSensor::Settings st = grid_2x3();
   st.reply_timeout = 1ms;  // a command sent by mistake times out at once
   st.attempts = 1;
@@ -341,7 +311,7 @@ TEST_CASE("WtsSensor: a command that is not an encoded packet is refused, nothin
 }
 
 TEST_CASE("WtsSensor: stop_periodic_frames is false when the sensor refuses or stays silent") {
-  ScriptedStream s;
+  test::MemoryStream s("scripted");
   WtsSensor::Settings st = grid_2x3();
   st.reply_timeout = 1ms;
   st.attempts = 2;
@@ -377,7 +347,7 @@ TEST_CASE("WtsSensor: stop_periodic_frames is false when the sensor refuses or s
 }
 
 TEST_CASE("WtsSensor: the destructor's stop command is best effort") {
-  ScriptedStream s;
+  test::MemoryStream s("scripted");
   {
     WtsSensor sensor(s, grid_2x3());
     s.push(encode_reply(Reply{wts_id::kStartPeriodicFrames, 0, {}}));
