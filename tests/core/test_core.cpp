@@ -27,6 +27,7 @@
 #include "iclap/core/random.hpp"
 #include "iclap/io/atomic_file.hpp"
 #include "../support/file_size_limit.hpp"
+#include "../support/temporaries.hpp"
 
 using namespace iclap;
 
@@ -137,11 +138,12 @@ TEST_CASE("quote_text: control bytes escaped, long text cut outside UTF-8 sequen
 }
 
 namespace {
-// Names in the current directory that start with `prefix`.
-std::vector<std::string> files_starting_with(const std::string& prefix) {
+// The names in `dir` that start with `prefix`, sorted.
+std::vector<std::string> names_in(const std::filesystem::path& dir, const std::string& prefix = "") {
   std::vector<std::string> out;
-  for (const auto& e : std::filesystem::directory_iterator("."))
+  for (const auto& e : std::filesystem::directory_iterator(dir))
     if (e.path().filename().string().rfind(prefix, 0) == 0) out.push_back(e.path().filename().string());
+  std::sort(out.begin(), out.end());
   return out;
 }
 std::string slurp_file(const std::string& path) {
@@ -165,7 +167,7 @@ TEST_CASE("AtomicFileWriter: all or nothing") {
     // destroyed without commit: nothing appears
   }
   CHECK(!std::ifstream(path).good());
-  CHECK(files_starting_with(path) == std::vector<std::string>{path + ".partial"});
+  CHECK(names_in(".", path) == std::vector<std::string>{path + ".partial"});
   {
     AtomicFileWriter w(path);
     AtomicFileWriter second(path);  // two writers, two temporaries
@@ -190,7 +192,7 @@ TEST_CASE("AtomicFileWriter: all or nothing") {
   }
   REQUIRE(slurp_file(path).size() < 100);  // not the 64 KiB of x (which doctest would print)
   CHECK(slurp_file(path) == "complete\n");
-  CHECK(files_starting_with(path).size() == 2);
+  CHECK(names_in(".", path).size() == 2);
   CHECK(slurp_file(path + ".partial") == "precious\n");
   {
     // Without the directory sync (a file of a staging directory), the file
@@ -200,7 +202,7 @@ TEST_CASE("AtomicFileWriter: all or nothing") {
     w.commit(AtomicFileWriter::DirectorySync::no);
   }
   CHECK(slurp_file(path) == "staged\n");
-  CHECK(files_starting_with(path).size() == 2);
+  CHECK(names_in(".", path).size() == 2);
   std::remove(path.c_str());
   std::remove((path + ".partial").c_str());
   CHECK_THROWS_AS(AtomicFileWriter("/nonexistent-dir/x.txt"), IoError);
@@ -254,13 +256,6 @@ TEST_CASE("AtomicFileWriter: through a symbolic link, keeping permissions, with 
 }
 
 namespace {
-// The names in `dir`, sorted.
-std::vector<std::string> names_in(const std::filesystem::path& dir) {
-  std::vector<std::string> out;
-  for (const auto& e : std::filesystem::directory_iterator(dir)) out.push_back(e.path().filename().string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
 // What `f` threw: "WriteError" or "IoError" (a WriteError is an IoError too),
 // the path the error names and what().
 struct ThrownIo {
@@ -281,9 +276,8 @@ ThrownIo io_error_of(F&& f) {
 
 TEST_CASE("AtomicFileWriter: a failed open, rename or sync names the path and leaves the old file and no temporary") {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("iclap_atomic_errors_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const iclap::test::TempDir scratch("atomic_errors");
+  const fs::path& dir = scratch.path;
   // A directory that does not exist: nothing is created.
   const std::string missing = (dir / "no_such_dir" / "out.txt").string();
   ThrownIo t = io_error_of([&] { AtomicFileWriter w(missing); });
@@ -335,14 +329,12 @@ TEST_CASE("AtomicFileWriter: a failed open, rename or sync names the path and le
   CHECK(t.what == target + ": fsync failed: " + std::strerror(ENOENT));
   CHECK(slurp_file(target) == "old\ncontent\n");
   CHECK(names_in(dir) == std::vector<std::string>{"out.txt", "taken"});
-  fs::remove_all(dir);
 }
 
 TEST_CASE("AtomicFileWriter: when all 1000 temporary names it tries are taken, IoError and nothing replaced") {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("iclap_atomic_names_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const iclap::test::TempDir scratch("atomic_names");
+  const fs::path& dir = scratch.path;
   const std::string target = (dir / "data.csv").string();
   std::ofstream(target, std::ios::binary) << "kept\n";
   // The writer tries PATH.partial-PID-N for N from a process-wide counter
@@ -379,7 +371,6 @@ TEST_CASE("AtomicFileWriter: when all 1000 temporary names it tries are taken, I
   }
   CHECK(slurp_file(target) == "new\n");
   CHECK(names_in(dir).size() == 1001);
-  fs::remove_all(dir);
 }
 
 TEST_CASE("parallel_for visits every item once; ProgressCounter reports them one at a time, in order") {

@@ -66,6 +66,14 @@ inline std::string hex(const std::vector<std::uint8_t>& bytes) {
   return out;
 }
 
+/// A 2x3 frame whose taxels all read `value`.
+inline TactileFrame flat_frame(std::uint32_t timestamp_ms, std::uint16_t value) {
+  TactileFrame f;
+  f.timestamp_ms = timestamp_ms;
+  f.texels = TexelImage::Constant(2, 3, value);
+  return f;
+}
+
 /// A frame with random 12-bit taxels.
 inline TactileFrame random_frame(Rng& rng, const Grid& grid, std::uint32_t timestamp_ms) {
   TactileFrame f;

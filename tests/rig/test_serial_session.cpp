@@ -440,17 +440,6 @@ TEST_CASE("Pose specs") {
 
 // --- WtsSensor over an in-memory stream; DatasetFrameSource misuse ----------
 
-namespace {
-
-TactileFrame small_frame(std::uint32_t timestamp_ms) {
-  TactileFrame f;
-  f.timestamp_ms = timestamp_ms;
-  f.texels = TexelImage::Constant(2, 3, 100);
-  return f;
-}
-
-}  // namespace
-
 TEST_CASE("WtsSensor: max_queued_frames = 0 is refused") {
   test::MemoryStream s;
   WtsSensor::Settings st;
@@ -464,8 +453,8 @@ TEST_CASE("WtsSensor: max_queued_frames = 0 is refused") {
   }
   st.max_queued_frames = 1;
   WtsSensor sensor(s, st);
-  s.push(encode_frame(small_frame(1)));
-  s.push(encode_frame(small_frame(2)));
+  s.push(encode_frame(test::flat_frame(1, 100)));
+  s.push(encode_frame(test::flat_frame(2, 100)));
   auto f = sensor.next_frame(10ms);
   REQUIRE(f);
   CHECK(f->timestamp_ms == 1);
@@ -478,7 +467,7 @@ TEST_CASE("WtsSensor: next_frame(0ms) polls the stream") {
   WtsSensor sensor(s, st);
   CHECK_FALSE(sensor.next_frame(0ms));  // nothing sent yet
   CHECK(s.reads >= 1);
-  s.push(encode_frame(small_frame(7)));
+  s.push(encode_frame(test::flat_frame(7, 100)));
   auto f = sensor.next_frame(0ms);  // used to return nothing without reading
   REQUIRE(f);
   CHECK(f->timestamp_ms == 7);

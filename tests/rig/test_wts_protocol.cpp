@@ -224,10 +224,7 @@ namespace {
 
 // A 2x3 frame whose taxels all read `timestamp_ms` (so frames are told apart).
 TactileFrame numbered_frame(std::uint32_t timestamp_ms) {
-  TactileFrame f;
-  f.timestamp_ms = timestamp_ms;
-  f.texels = TexelImage::Constant(2, 3, static_cast<std::uint16_t>(timestamp_ms));
-  return f;
+  return test::flat_frame(timestamp_ms, static_cast<std::uint16_t>(timestamp_ms));
 }
 
 WtsSensor::Settings grid_2x3() {

@@ -21,6 +21,7 @@
 #include "iclap/data/csv_writer.hpp"
 #include "iclap/mesh/primitives.hpp"
 #include "iclap/sim/sim.hpp"
+#include "../support/temporaries.hpp"
 #include "../support/zero_area_mesh.hpp"
 
 namespace {
@@ -459,10 +460,16 @@ TEST_CASE("settings: non-finite and oversized values are refused, naming the set
   CHECK_NOTHROW(s.validate());
 }
 
+namespace {
+// The file-to-scale map of a meshes.json text.
+std::map<std::string, double> parse_manifest(const std::string& text) {
+  return iclap::detail::ManifestParser(text, "meshes.json").parse();
+}
+}  // namespace
+
 TEST_CASE("mesh objects: manifest nesting is capped, not a stack overflow") {
-  auto parse = [](const std::string& text) { return iclap::detail::ManifestParser(text, "meshes.json").parse(); };
   try {
-    parse("[{\"x\":" + std::string(2000000, '['));
+    parse_manifest("[{\"x\":" + std::string(2000000, '['));
     FAIL("accepted");
   } catch (const iclap::ParseError& e) {
     CHECK(e.file() == "meshes.json");
@@ -474,20 +481,19 @@ TEST_CASE("mesh objects: manifest nesting is capped, not a stack overflow") {
     return "[{\"file\": \"a.obj\", \"x\": " + std::string(static_cast<std::size_t>(n), '[') +
            std::string(static_cast<std::size_t>(n), ']') + ", \"scale_to_metres\": 0.001}]";
   };
-  const auto scales = parse(nested(254));
+  const auto scales = parse_manifest(nested(254));
   CHECK(scales.size() == 1);
   CHECK(scales.at("a.obj") == 0.001);
-  CHECK_THROWS_WITH_AS(parse(nested(255)), "meshes.json:1: nesting deeper than 256", iclap::ParseError);
-  CHECK_THROWS_WITH_AS(parse("[{\"x\": {\"y\": [1, {\"z\": [[[" + std::string(300, '[')),
+  CHECK_THROWS_WITH_AS(parse_manifest(nested(255)), "meshes.json:1: nesting deeper than 256", iclap::ParseError);
+  CHECK_THROWS_WITH_AS(parse_manifest("[{\"x\": {\"y\": [1, {\"z\": [[[" + std::string(300, '[')),
                        "meshes.json:1: nesting deeper than 256", iclap::ParseError);
 }
 
 TEST_CASE("mesh objects: a file listed twice in meshes.json is refused at the second entry") {
   // The second entry used to override the first silently (a 1 mm-scale cube
   // read as metres became 1000 times larger).
-  auto parse = [](const std::string& text) { return iclap::detail::ManifestParser(text, "meshes.json").parse(); };
   try {
-    parse("[{\"file\": \"cube.obj\", \"scale_to_metres\": 0.001},\n"
+    parse_manifest("[{\"file\": \"cube.obj\", \"scale_to_metres\": 0.001},\n"
           " {\"file\": \"other.obj\", \"scale_to_metres\": 1},\n"
           " {\"file\": \"cube.obj\",\n  \"scale_to_metres\": 1}]");
     FAIL("accepted");
@@ -497,11 +503,11 @@ TEST_CASE("mesh objects: a file listed twice in meshes.json is refused at the se
     CHECK(e.reason() == "'cube.obj' is listed twice (first at line 1)");
   }
   // Even with the same scale: the manifest is ambiguous or a copy-paste slip.
-  CHECK_THROWS_WITH_AS(parse("[{\"file\": \"a.obj\", \"scale_to_metres\": 1}, {\"file\": \"a.obj\", "
+  CHECK_THROWS_WITH_AS(parse_manifest("[{\"file\": \"a.obj\", \"scale_to_metres\": 1}, {\"file\": \"a.obj\", "
                              "\"scale_to_metres\": 1}]"),
                        "meshes.json:1: 'a.obj' is listed twice (first at line 1)", iclap::ParseError);
   // Entries without both members are ignored, so they are not duplicates.
-  const auto scales = parse("[{\"file\": \"a.obj\"}, {\"file\": \"a.obj\", \"scale_to_metres\": 0.01}]");
+  const auto scales = parse_manifest("[{\"file\": \"a.obj\"}, {\"file\": \"a.obj\", \"scale_to_metres\": 0.01}]");
   CHECK(scales.at("a.obj") == 0.01);
 
   // Through load_mesh_objects: the error names the manifest's path.
@@ -679,7 +685,7 @@ TEST_CASE("exploration: an approach that feels nothing gives up, lifts and tries
 namespace {
 iclap::ParseError manifest_error(const std::string& text) {
   try {
-    (void)iclap::detail::ManifestParser(text, "meshes.json").parse();
+    (void)parse_manifest(text);
   } catch (const iclap::ParseError& e) {
     return e;
   }
@@ -689,10 +695,9 @@ iclap::ParseError manifest_error(const std::string& text) {
 }  // namespace
 
 TEST_CASE("mesh objects: manifest strings decode JSON escapes; malformed escapes are refused") {
-  auto parse = [](const std::string& text) { return iclap::detail::ManifestParser(text, "meshes.json").parse(); };
   // The file name of a one-entry manifest whose "file" is written `json`.
   auto file_name = [&](const std::string& json) {
-    const auto scales = parse("[{\"file\": \"" + json + "\", \"scale_to_metres\": 0.5}]");
+    const auto scales = parse_manifest("[{\"file\": \"" + json + "\", \"scale_to_metres\": 0.5}]");
     REQUIRE(scales.size() == 1);
     CHECK(scales.begin()->second == 0.5);
     return scales.begin()->first;
@@ -710,14 +715,14 @@ TEST_CASE("mesh objects: manifest strings decode JSON escapes; malformed escapes
   CHECK(file_name(R"(\ud83d\ude00.ply)") == "\xf0\x9f\x98\x80.ply");
   // Names that differ only in an escaped character are two files, not one
   // listed twice.
-  const auto two = parse(R"([{"file": "\u00e9.obj", "scale_to_metres": 1},)"
+  const auto two = parse_manifest(R"([{"file": "\u00e9.obj", "scale_to_metres": 1},)"
                          R"( {"file": "\u00e8.obj", "scale_to_metres": 0.001}])");
   CHECK(two.size() == 2);
   CHECK(two.at("\xc3\xa9.obj") == 1);
   CHECK(two.at("\xc3\xa8.obj") == 0.001);
   // Escapes in members that are skipped, and in keys.
-  CHECK(parse(R"([{"n\u006fte": "tab\there \u00e9 \"q\"", "file": "a.obj", "scale_to_metres": 1}])").at("a.obj") == 1);
-  CHECK(parse(R"([{"fil\u0065": "a.obj", "scale_to_metres": 2}])").at("a.obj") == 2);
+  CHECK(parse_manifest(R"([{"n\u006fte": "tab\there \u00e9 \"q\"", "file": "a.obj", "scale_to_metres": 1}])").at("a.obj") == 1);
+  CHECK(parse_manifest(R"([{"fil\u0065": "a.obj", "scale_to_metres": 2}])").at("a.obj") == 2);
 
   // Malformed escapes: a ParseError at the line of the string, saying why.
   struct Bad {
@@ -751,28 +756,24 @@ TEST_CASE("mesh objects: manifest strings decode JSON escapes; malformed escapes
   // Through load_mesh_objects: a file with a non-ASCII name, listed with a
   // \u escape, gets its scale.
   const std::string dir = std::string(ICLAP_TEST_FIXTURES) + "/mesh/objects";
-  const fs::path tmp =
-      fs::temp_directory_path() / ("iclap_test_sim_utf8_" + std::to_string(static_cast<long>(::getpid())));
-  fs::remove_all(tmp);
-  fs::create_directories(tmp);
+  const iclap::test::TempDir scratch("sim_utf8");
+  const fs::path& tmp = scratch.path;
   fs::copy_file(dir + "/block.obj", tmp / "bl\xc3\xb6" "ck.obj");
   std::ofstream(tmp / "meshes.json") << "[{\"file\": \"bl\\u00f6ck.obj\", \"scale_to_metres\": 0.001}]";
   const auto objects = iclap::load_mesh_objects(tmp.string());
   REQUIRE(objects.size() == 1);
   CHECK(objects[0].name == "bl\xc3\xb6" "ck");
   CHECK(objects[0].shape.bounds().sizes().maxCoeff() == doctest::Approx(0.06e-3));
-  fs::remove_all(tmp);
 }
 
 TEST_CASE("mesh objects: manifest values of every JSON kind; empty arrays and objects") {
-  auto parse = [](const std::string& text) { return iclap::detail::ManifestParser(text, "meshes.json").parse(); };
-  CHECK(parse("[]").empty());
-  CHECK(parse(" \n[ \t]\n").empty());
-  CHECK(parse("[{}]").empty());
-  CHECK(parse("[{ }, {\"file\": \"a.obj\", \"scale_to_metres\": 2}]") == std::map<std::string, double>{{"a.obj", 2.0}});
+  CHECK(parse_manifest("[]").empty());
+  CHECK(parse_manifest(" \n[ \t]\n").empty());
+  CHECK(parse_manifest("[{}]").empty());
+  CHECK(parse_manifest("[{ }, {\"file\": \"a.obj\", \"scale_to_metres\": 2}]") == std::map<std::string, double>{{"a.obj", 2.0}});
   // Members other than "file" and "scale_to_metres" are skipped whatever
   // their kind.
-  const auto scales = parse(
+  const auto scales = parse_manifest(
       R"([{"closed": false, "file": "a.obj", "watertight": true, "scale_to_metres": 1e-3, "licence": null,)"
       R"( "tags": [], "meta": {}, "aabb": [-1.5, 2E2, {"k": [false, true, null, "s"]}], "bytes": 12}])");
   CHECK(scales == std::map<std::string, double>{{"a.obj", 0.001}});
@@ -785,10 +786,8 @@ TEST_CASE("mesh objects: manifest values of every JSON kind; empty arrays and ob
 }
 
 TEST_CASE("mesh objects: an invalid object file is refused naming its path") {
-  const fs::path tmp =
-      fs::temp_directory_path() / ("iclap_test_sim_bad_" + std::to_string(static_cast<long>(::getpid())));
-  fs::remove_all(tmp);
-  fs::create_directories(tmp);
+  const iclap::test::TempDir scratch("sim_bad");
+  const fs::path& tmp = scratch.path;
   auto load_error = [&](const fs::path& file) {
     try {
       (void)iclap::load_mesh_objects(tmp.string(), iclap::LengthUnit::metres);
@@ -809,5 +808,4 @@ TEST_CASE("mesh objects: an invalid object file is refused naming its path") {
   const fs::path flat = tmp / "flat.obj";
   std::ofstream(flat) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n";
   CHECK(load_error(flat).find("all points lie on a plane") != std::string::npos);
-  fs::remove_all(tmp);
 }

@@ -1,13 +1,36 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-// Checks that an all-or-nothing writer (AtomicFileWriter) left no temporary
-// file (`PATH.partial-...`) beside its target.
+// Scratch directories for tests, and a check that an all-or-nothing writer
+// (AtomicFileWriter) left no temporary file (`PATH.partial-...`) beside its
+// target.
+
+#include <unistd.h>
 
 #include <filesystem>
 #include <string>
+#include <system_error>
 
 namespace iclap::test {
+
+/// A scratch directory `iclap_test_TAG_PID` in the system's temporary
+/// directory, emptied when made and removed with everything in it at the end.
+struct TempDir {
+  std::filesystem::path path;
+  explicit TempDir(const std::string& tag)
+      : path(std::filesystem::temp_directory_path() /
+             ("iclap_test_" + tag + "_" + std::to_string(static_cast<long>(::getpid())))) {
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  std::string file(const std::string& name) const { return (path / name).string(); }
+};
 
 inline bool temporary_left_beside(const std::string& path) {
   const std::filesystem::path p(path);
