@@ -102,6 +102,34 @@ TEST_CASE("WTS commands: every command of the table") {
   CHECK(wts_command_name(0x7f) == "command 0x7f");
 }
 
+TEST_CASE("is_wts_packet: every encoded packet, and nothing one bit or one byte away") {
+  const Bytes packets[] = {encode_loop({}), encode_tare(), encode_loop({1, 2, 3, 0xAA, 0xAA, 0xAA}),
+                           encode_start_periodic_frames(200), encode_packet(0x00, Bytes(173, 0x5A))};
+  for (const Bytes& p : packets) {
+    CAPTURE(hex(Bytes(p.begin(), p.begin() + 6)));
+    CHECK(is_wts_packet(p.data(), p.size()));
+    CHECK(is_wts_preamble(p.data()));
+    CHECK(wts_crc_matches(p.data(), p.size()));
+    // Every single-bit error: in the preamble, the size field (the length
+    // no longer matches) or anywhere the CRC covers (CRC-16 catches it).
+    int accepted = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for (int bit = 0; bit < 8; ++bit) {
+        Bytes q = p;
+        q[i] ^= static_cast<std::uint8_t>(1u << bit);
+        accepted += is_wts_packet(q.data(), q.size()) ? 1 : 0;
+      }
+    CHECK(accepted == 0);
+    // A byte short or a byte more (one packet, not a prefix or a stream).
+    for (std::size_t n = 0; n < p.size(); ++n) CHECK_FALSE(is_wts_packet(p.data(), n));
+    Bytes longer = p;
+    longer.push_back(0);
+    CHECK_FALSE(is_wts_packet(longer.data(), longer.size()));
+  }
+  const std::uint8_t not_preamble[] = {0xAA, 0xAA, 0xAB};
+  CHECK_FALSE(is_wts_preamble(not_preamble));
+}
+
 TEST_CASE("WTS commands: payload size limit") {
   const Bytes big(65535, 0x11);
   CHECK(check_packet(encode_packet(0x06, big), 0x06).size() == 65535);

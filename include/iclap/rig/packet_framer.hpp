@@ -14,7 +14,6 @@
 #include <vector>
 
 #include "iclap/core/error.hpp"
-#include "iclap/rig/crc16.hpp"
 #include "iclap/rig/wts_protocol.hpp"
 
 namespace iclap::rig {
@@ -193,7 +192,7 @@ class PacketFramer {
 
   bool crc_ok(std::size_t pos, std::size_t total) noexcept {
     ++crc_computations_;
-    return wts_crc16(&buffer_[pos], total - kWtsCrcSize) == get_u16(&buffer_[pos + total - kWtsCrcSize]);
+    return wts_crc_matches(&buffer_[pos], total);
   }
 
   // The CRC check of the candidate at begin_ (complete, `total` bytes),
@@ -229,8 +228,7 @@ class PacketFramer {
     inner_bad_crc_.erase(inner_bad_crc_.begin(), inner_bad_crc_.lower_bound(base_ + pos));
     for (; scan_ + kWtsHeaderSize + kWtsCrcSize <= abs_limit; ++scan_) {
       const std::size_t i = static_cast<std::size_t>(scan_ - base_);
-      if (buffer_[i] != kWtsPreambleByte || buffer_[i + 1] != kWtsPreambleByte || buffer_[i + 2] != kWtsPreambleByte)
-        continue;
+      if (!is_wts_preamble(&buffer_[i])) continue;
       const std::size_t size = get_u16(&buffer_[i + 4]);
       if (size > max_payload_) continue;
       inner_waiting_.emplace(scan_ + kWtsHeaderSize + size + kWtsCrcSize, scan_);

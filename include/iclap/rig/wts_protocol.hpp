@@ -83,6 +83,26 @@ inline std::uint32_t get_u32(const std::uint8_t* p) noexcept {
          (static_cast<std::uint32_t>(p[2]) << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
 }
 
+/// Whether the kWtsPreambleSize bytes at `p` are the preamble AA AA AA
+/// (caller checks the bounds).
+inline bool is_wts_preamble(const std::uint8_t* p) noexcept {
+  return p[0] == kWtsPreambleByte && p[1] == kWtsPreambleByte && p[2] == kWtsPreambleByte;
+}
+
+/// Whether the last two of the `total` bytes at `p` (total >= kWtsCrcSize)
+/// are the CRC of the bytes before them, as a packet's are.
+inline bool wts_crc_matches(const std::uint8_t* p, std::size_t total) noexcept {
+  return get_u16(p + total - kWtsCrcSize) == wts_crc16(p, total - kWtsCrcSize);
+}
+
+/// Whether the `size` bytes at `p` are exactly one packet: the preamble, a
+/// size field that matches the length, and the CRC. Any id and payload
+/// pass; PacketFramer finds such packets in a stream.
+inline bool is_wts_packet(const std::uint8_t* p, std::size_t size) noexcept {
+  return size >= kWtsHeaderSize + kWtsCrcSize && is_wts_preamble(p) &&
+         size == kWtsHeaderSize + get_u16(p + 4) + kWtsCrcSize && wts_crc_matches(p, size);
+}
+
 /// One complete packet (preamble, id, size, payload, CRC) for message `id`.
 /// Throws InvalidArgument if the payload exceeds 65535 bytes. Used for host
 /// commands and, by test doubles, for the sensor's replies and frames.

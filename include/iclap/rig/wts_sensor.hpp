@@ -91,10 +91,7 @@ class WtsSensor {
   /// Throws InvalidArgument, sending nothing, if `command` is not exactly one
   /// packet (preamble, size field matching its length, CRC).
   Reply request(const Bytes& command) {
-    const std::size_t n = command.size();
-    if (n < kWtsHeaderSize + kWtsCrcSize || command[0] != kWtsPreambleByte || command[1] != kWtsPreambleByte ||
-        command[2] != kWtsPreambleByte || n != kWtsHeaderSize + get_u16(&command[4]) + kWtsCrcSize ||
-        get_u16(&command[n - kWtsCrcSize]) != wts_crc16(command.data(), n - kWtsCrcSize))
+    if (!is_wts_packet(command.data(), command.size()))
       throw InvalidArgument("command", "is not an encoded WTS packet");
     const std::uint8_t id = command[3];
     for (int attempt = 0; attempt < settings_.attempts; ++attempt) {
