@@ -219,8 +219,8 @@ TEST_CASE("directory_of: the parent, or . for a bare name; sync_directory skips 
 
 TEST_CASE("AtomicFileWriter: through a symbolic link, keeping permissions, with the longest file names") {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("iclap_atomic_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const iclap::test::TempDir scratch("atomic");
+  const fs::path& dir = scratch.path;
   fs::create_directories(dir / "real");
   auto write = [](const fs::path& p, const std::string& text) {
     AtomicFileWriter w(p.string());
@@ -252,7 +252,6 @@ TEST_CASE("AtomicFileWriter: through a symbolic link, keeping permissions, with 
   fs::create_symlink("a", dir / "b");
   CHECK_THROWS_WITH_AS(AtomicFileWriter((dir / "a").string()), doctest::Contains("symbolic links"), IoError);
   CHECK(std::distance(fs::directory_iterator(dir), fs::directory_iterator()) == 5);  // real, link, long, a, b
-  fs::remove_all(dir);
 }
 
 namespace {

@@ -4,8 +4,6 @@
 
 #include <doctest/doctest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -369,9 +367,8 @@ TEST_CASE("mesh objects: folder with meshes.json, explicit units, errors") {
   CHECK(as_mm[0].shape.bounds().sizes().maxCoeff() == doctest::Approx(0.06e-3));
 
   // Automatic units without a manifest, a file missing from it, duplicate stems.
-  const fs::path tmp = fs::temp_directory_path() / ("iclap_test_sim_" + std::to_string(static_cast<long>(::getpid())));
-  fs::remove_all(tmp);
-  fs::create_directories(tmp);
+  const iclap::test::TempDir scratch("sim");
+  const fs::path& tmp = scratch.path;
   fs::copy_file(dir + "/block.obj", tmp / "block.obj");
   CHECK_THROWS_WITH_AS(iclap::load_mesh_objects(tmp.string()), doctest::Contains("meshes.json"), iclap::InvalidArgument);
   std::ofstream(tmp / "meshes.json") << "[{\"file\": \"other.obj\", \"scale_to_metres\": 1}]";
@@ -388,7 +385,6 @@ TEST_CASE("mesh objects: folder with meshes.json, explicit units, errors") {
   } catch (const iclap::ParseError& e) {
     CHECK(e.line() == 2);
   }
-  fs::remove_all(tmp);
   CHECK_THROWS_AS(iclap::load_mesh_objects(dir + "/nothing_here"), iclap::IoError);
 }
 
@@ -512,10 +508,8 @@ TEST_CASE("mesh objects: a file listed twice in meshes.json is refused at the se
 
   // Through load_mesh_objects: the error names the manifest's path.
   const std::string dir = std::string(ICLAP_TEST_FIXTURES) + "/mesh/objects";
-  const fs::path tmp =
-      fs::temp_directory_path() / ("iclap_test_sim_dup_" + std::to_string(static_cast<long>(::getpid())));
-  fs::remove_all(tmp);
-  fs::create_directories(tmp);
+  const iclap::test::TempDir scratch("sim_dup");
+  const fs::path& tmp = scratch.path;
   fs::copy_file(dir + "/block.obj", tmp / "block.obj");
   std::ofstream(tmp / "meshes.json") << "[\n{\"file\": \"block.obj\", \"scale_to_metres\": 0.001},\n"
                                         "{\"file\": \"block.obj\", \"scale_to_metres\": 1}\n]\n";
@@ -526,7 +520,6 @@ TEST_CASE("mesh objects: a file listed twice in meshes.json is refused at the se
     CHECK(e.file() == (tmp / "meshes.json").string());
     CHECK(e.line() == 3);
   }
-  fs::remove_all(tmp);
 }
 
 TEST_CASE("mesh objects: a mesh of zero-area triangles is refused by name") {
