@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -25,16 +26,16 @@ iclap::Frame frame(const std::string& object, std::int64_t exploration, double x
   return f;
 }
 
-}  // namespace
+// Object b's one exploration holds the first and the last frame of the
+// file (not contiguous); a's explorations come in the order 3, 1, 2.
+// Coordinates and the radius R = 2^-7 m are exact in binary, so "at the
+// radius" is exactly at it.
+constexpr double R = 0.0078125;
 
-TEST_CASE("exploration_overlap: exact counts, inclusive radius, contacts only, order of first appearance") {
+iclap::Dataset mixed_dataset() {
   iclap::Dataset ds;
   ds.rows = 2;
   ds.cols = 3;
-  // Object b first in the file: the result follows the file. Coordinates
-  // and the radius R = 2^-7 m are exact in binary, so "at the radius" is
-  // exactly at it.
-  constexpr double R = 0.0078125;
   ds.frames = {
       frame("b", 7, 0.5, 0.5, 0.5, 100),       // b has one exploration: never near anything
       frame("a", 3, 0.0, 0, 0, 100),           // 0.004 from a/1's first contact
@@ -48,6 +49,13 @@ TEST_CASE("exploration_overlap: exact counts, inclusive radius, contacts only, o
       frame("a", 2, 0.5005, 0.0011, 0, 5),     // close to a/3's third contact, but not a contact
       frame("b", 7, 0.5, 0.5, 0.501, 100),     // same exploration as b's first: not counted
   };
+  return ds;
+}
+
+}  // namespace
+
+TEST_CASE("exploration_overlap: exact counts, inclusive radius, contacts only, order of first appearance") {
+  const iclap::Dataset ds = mixed_dataset();
   const auto r = iclap::exploration_overlap(ds, R);
   REQUIRE(r.size() == 4);
   CHECK(r[0].object == "b");
@@ -79,6 +87,37 @@ TEST_CASE("exploration_overlap: exact counts, inclusive radius, contacts only, o
   const auto tight = iclap::exploration_overlap(ds, 0.0045);
   CHECK(tight[1].near == 1);
   CHECK(tight[2].near == 1);
+}
+
+TEST_CASE("group_frames and summarize: objects and explorations in order of first appearance") {
+  const iclap::Dataset ds = mixed_dataset();
+  const auto g = iclap::group_frames(ds);
+  REQUIRE(g.size() == 2);
+  CHECK(g[0].name == "b");
+  REQUIRE(g[0].explorations.size() == 1);
+  CHECK(g[0].explorations[0].id == 7);
+  CHECK(g[0].explorations[0].frames == std::vector<std::size_t>{0, 10});
+  CHECK(g[1].name == "a");
+  REQUIRE(g[1].explorations.size() == 3);
+  CHECK(g[1].explorations[0].id == 3);
+  CHECK(g[1].explorations[0].frames == std::vector<std::size_t>{1, 2, 3, 4});
+  CHECK(g[1].explorations[1].id == 1);
+  CHECK(g[1].explorations[1].frames == std::vector<std::size_t>{5, 6, 7});
+  CHECK(g[1].explorations[2].id == 2);
+  CHECK(g[1].explorations[2].frames == std::vector<std::size_t>{8, 9});
+  CHECK(iclap::group_frames(iclap::Dataset{}).empty());
+
+  const auto s = iclap::summarize(ds);
+  REQUIRE(s.size() == 2);
+  CHECK(s[0].name == "b");
+  CHECK(s[0].explorations == std::vector<std::int64_t>{7});
+  CHECK(s[0].frames == 2);
+  CHECK(s[0].contact_frames == 2);
+  CHECK(s[1].name == "a");
+  CHECK(s[1].explorations == std::vector<std::int64_t>{3, 1, 2});
+  CHECK(s[1].frames == 9);
+  CHECK(s[1].contact_frames == 6);
+  CHECK(iclap::summarize(ds, 4.0)[1].contact_frames == 8);  // the frames of 10 and 5 too
 }
 
 TEST_CASE("exploration_overlap: empty input, explorations without contacts, bad arguments") {

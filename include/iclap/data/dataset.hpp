@@ -77,6 +77,40 @@ inline std::vector<std::int64_t> explorations_of(const Dataset& ds, const std::s
   return ids;
 }
 
+/// The frames of one exploration: indices into Dataset::frames, in file order.
+struct ExplorationFrames {
+  std::int64_t id = 0;
+  std::vector<std::size_t> frames;
+};
+
+/// The frames of one object, its explorations in order of first appearance.
+struct ObjectFrames {
+  std::string name;
+  std::vector<ExplorationFrames> explorations;
+};
+
+/// The frames of `ds` grouped by object, then by exploration, both in order
+/// of first appearance (an exploration's frames need not be contiguous in
+/// the file). O(frames).
+inline std::vector<ObjectFrames> group_frames(const Dataset& ds) {
+  std::vector<ObjectFrames> out;
+  std::unordered_map<std::string, std::size_t> object_index;
+  std::vector<std::unordered_map<std::int64_t, std::size_t>> exploration_index;
+  for (std::size_t i = 0; i < ds.frames.size(); ++i) {
+    const Frame& f = ds.frames[i];
+    const auto [o, new_object] = object_index.emplace(f.object, out.size());
+    if (new_object) {
+      out.push_back(ObjectFrames{f.object, {}});
+      exploration_index.emplace_back();
+    }
+    ObjectFrames& object = out[o->second];
+    const auto [e, new_exploration] = exploration_index[o->second].emplace(f.exploration, object.explorations.size());
+    if (new_exploration) object.explorations.push_back(ExplorationFrames{f.exploration, {}});
+    object.explorations[e->second].frames.push_back(i);
+  }
+  return out;
+}
+
 /// Counts of one object in a dataset.
 struct ObjectSummary {
   std::string name;
@@ -89,15 +123,15 @@ struct ObjectSummary {
 inline std::vector<ObjectSummary> summarize(const Dataset& ds,
                                             double threshold = kDefaultContactThreshold) {
   std::vector<ObjectSummary> out;
-  std::unordered_map<std::string, std::size_t> index;
-  for (const Frame& f : ds.frames) {
-    const auto it = index.emplace(f.object, out.size());
-    if (it.second) out.push_back(ObjectSummary{f.object, {}, 0, 0});
-    ObjectSummary& s = out[it.first->second];
-    if (std::find(s.explorations.begin(), s.explorations.end(), f.exploration) == s.explorations.end())
-      s.explorations.push_back(f.exploration);
-    ++s.frames;
-    if (is_contact(f, threshold)) ++s.contact_frames;
+  for (const ObjectFrames& o : group_frames(ds)) {
+    ObjectSummary s{o.name, {}, 0, 0};
+    for (const ExplorationFrames& e : o.explorations) {
+      s.explorations.push_back(e.id);
+      s.frames += e.frames.size();
+      for (const std::size_t i : e.frames)
+        if (is_contact(ds.frames[i], threshold)) ++s.contact_frames;
+    }
+    out.push_back(std::move(s));
   }
   return out;
 }

@@ -12,7 +12,6 @@
 #include <cstdint>
 #include <optional>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -53,46 +52,33 @@ inline std::vector<ExplorationOverlap> exploration_overlap(const Dataset& ds, do
   check_non_negative(threshold, "threshold");
   const double r2 = radius * radius;
 
-  // Contact positions grouped by object, then by exploration, in order of
-  // first appearance.
-  struct Exploration {
-    std::int64_t id = 0;
-    std::vector<Eigen::Vector3d> contacts;
-  };
-  struct Object {
-    std::string name;
-    std::vector<Exploration> explorations;
-    std::unordered_map<std::int64_t, std::size_t> index;
-  };
-  std::vector<Object> objects;
-  std::unordered_map<std::string, std::size_t> object_index;
+  // Which frames are contacts, in file order, so that a contact frame at a
+  // non-finite position is refused before any work, the first one named.
+  std::vector<bool> contact(ds.frames.size());
   for (std::size_t i = 0; i < ds.frames.size(); ++i) {
-    const Frame& f = ds.frames[i];
-    const auto [oit, onew] = object_index.emplace(f.object, objects.size());
-    if (onew) objects.push_back(Object{f.object, {}, {}});
-    Object& o = objects[oit->second];
-    const auto [eit, enew] = o.index.emplace(f.exploration, o.explorations.size());
-    if (enew) o.explorations.push_back(Exploration{f.exploration, {}});
-    if (!is_contact(f, threshold)) continue;
-    check_finite(f.position, "frames[" + std::to_string(i) + "].position");
-    o.explorations[eit->second].contacts.push_back(f.position);
+    contact[i] = is_contact(ds.frames[i], threshold);
+    if (contact[i]) check_finite(ds.frames[i].position, "frames[" + std::to_string(i) + "].position");
   }
 
   std::vector<ExplorationOverlap> out;
-  for (const Object& o : objects) {
+  std::vector<std::vector<std::size_t>> contacts;  // per exploration of one object: its contact frames
+  for (const ObjectFrames& o : group_frames(ds)) {
+    contacts.assign(o.explorations.size(), {});
     // One kd-tree per exploration with contacts (pad centres).
     std::vector<std::optional<KdTreeSearch<double, 3>>> trees(o.explorations.size());
     for (std::size_t e = 0; e < o.explorations.size(); ++e) {
-      const auto& c = o.explorations[e].contacts;
+      for (const std::size_t i : o.explorations[e].frames)
+        if (contact[i]) contacts[e].push_back(i);
+      const auto& c = contacts[e];
       if (c.empty()) continue;
       Cloud<double, 3> points(3, static_cast<Index>(c.size()));
-      for (std::size_t i = 0; i < c.size(); ++i) points.col(static_cast<Index>(i)) = c[i];
+      for (std::size_t k = 0; k < c.size(); ++k) points.col(static_cast<Index>(k)) = ds.frames[c[k]].position;
       trees[e].emplace(std::move(points));
     }
     for (std::size_t e = 0; e < o.explorations.size(); ++e) {
-      const Exploration& ex = o.explorations[e];
-      ExplorationOverlap r{o.name, ex.id, ex.contacts.size(), 0};
-      for (const Eigen::Vector3d& p : ex.contacts) {
+      ExplorationOverlap r{o.name, o.explorations[e].id, contacts[e].size(), 0};
+      for (const std::size_t i : contacts[e]) {
+        const Eigen::Vector3d& p = ds.frames[i].position;
         for (std::size_t g = 0; g < trees.size(); ++g)
           if (g != e && trees[g] && trees[g]->nearest(p.data()).squared_distance <= r2) {
             ++r.near;
