@@ -1,0 +1,215 @@
+// SPDX-License-Identifier: MIT
+// Behaviour a mutation-testing pass over the registration found unpinned:
+// each case fails for at least one single-point change of the library (the
+// boundary and the squaring of the distance gate, E and RMSE over the kept
+// pairs only, the trimming tie rule, the order and the arithmetic of the
+// stopping rules, the inverse and matrix of a transform, the centroid and
+// centroid alignment, the composition with an initial rotation, the closed
+// 3x3 form's rank flag).
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <vector>
+
+#include "icp_test_util.hpp"
+
+using namespace iclap;
+using namespace iclap::test;
+
+namespace {
+
+/// Pairs of test points 0, 1, ... with the given squared distances.
+std::vector<Correspondence<double>> pairs_at(const std::vector<double>& squared) {
+  std::vector<Correspondence<double>> pairs;
+  for (std::size_t i = 0; i < squared.size(); ++i) pairs.push_back({static_cast<Index>(i), 0, squared[i]});
+  return pairs;
+}
+
+/// The test indices of the first `kept` pairs, sorted.
+std::vector<Index> kept_tests(const std::vector<Correspondence<double>>& pairs, Index kept) {
+  std::vector<Index> tests;
+  for (Index k = 0; k < kept; ++k) tests.push_back(pairs[static_cast<std::size_t>(k)].test);
+  std::sort(tests.begin(), tests.end());
+  return tests;
+}
+
+/// The rotation by `angle` about coordinate axis `axis` (0: x, 2: z).
+Eigen::Matrix3d axis_rotation(int axis, double angle) {
+  const Eigen::Vector3d u = Eigen::Vector3d::Unit(axis);
+  return Eigen::AngleAxisd(angle, u).toRotationMatrix();
+}
+
+}  // namespace
+
+TEST_CASE("the distance gate compares squared distances and keeps a pair exactly at max_distance") {
+  DistanceRejector<double> gate;
+  gate.max_distance = 0.5;  // squared 0.25, exactly
+  auto pairs = pairs_at({0.25, 0.36, 0.2, 1.0, 0.49});
+  const Index kept = gate.select(pairs.data(), 5);
+  CHECK(kept == 2);
+  CHECK(kept_tests(pairs, kept) == std::vector<Index>{0, 2});
+}
+
+TEST_CASE("trimming breaks ties at the boundary by the smaller test index") {
+  DistanceRejector<double> trim;
+  trim.trim_fraction = 0.5;
+  // Six pairs at the same distance, the test indices shuffled: the three
+  // kept are those of the smallest test indices, whatever their order.
+  std::vector<Correspondence<double>> pairs;
+  for (const Index i : {4, 1, 5, 0, 3, 2}) pairs.push_back({i, 0, 1.0});
+  const Index kept = trim.select(pairs.data(), 6);
+  CHECK(kept == 3);
+  CHECK(kept_tests(pairs, kept) == std::vector<Index>{0, 1, 2});
+}
+
+TEST_CASE("with rejection, E and RMSE are those of the kept pairs only") {
+  // Model: the origin and the three unit points. Test: three points at
+  // squared distances 0.01, 0.04 and 0.09 from their partners and one
+  // outlier at squared distance 66 from its nearest.
+  Eigen::Matrix3Xd model(3, 4), test(3, 4);
+  model << 0, 1, 0, 0,
+           0, 0, 1, 0,
+           0, 0, 0, 1;
+  test << 0.1, 1.0, 0.0, 5,
+          0.0, 0.2, 0.0, 5,
+          0.0, 0.0, 1.3, 5;
+  Icp<double, 3, Translation> icp;
+  icp.rejection.max_distance = 1.0;
+  icp.termination.max_iterations = 0;  // E at the identity
+  const auto r = icp.align(ReferenceCloud<double, 3>(model), test);
+  CHECK(r.pairs == 3);
+  CHECK(r.error == doctest::Approx(0.14).epsilon(1e-12));
+  CHECK(r.rmse == doctest::Approx(std::sqrt(0.14 / 3.0)).epsilon(1e-12));
+  // Without the gate the outlier counts.
+  icp.rejection = {};
+  const auto all = icp.align(ReferenceCloud<double, 3>(model), test);
+  CHECK(all.pairs == 4);
+  CHECK(all.error == doctest::Approx(66.14).epsilon(1e-12));
+}
+
+TEST_CASE("the stopping rules: defaults, order and the relative change") {
+  PaperTermination<double> term;
+  CHECK(term.max_iterations == 50);
+  CHECK(term.absolute_tolerance == 0.0);
+  CHECK(term.relative_tolerance == 1e-6);
+  // Rule order 1, 2, 3: a run whose last allowed update also converged is
+  // reported converged, not capped.
+  CHECK(term.check(50, 0.0, 1.0) == StopReason::AbsoluteTolerance);
+  CHECK(term.check(50, 2.0, 2.0) == StopReason::RelativeTolerance);
+  CHECK(term.check(50, 1.0, 2.0) == StopReason::MaxIterations);
+  CHECK(term.check(49, 1.0, 2.0) == std::nullopt);
+  // The change is relative to the previous error: |1.9 - 1| < 0.5 * 1.9,
+  // though not < 0.5 * 1; |2.1 - 1| is not < 0.5 * 2.1.
+  term.relative_tolerance = 0.5;
+  CHECK(term.check(3, 1.0, 1.9) == StopReason::RelativeTolerance);
+  CHECK(term.check(3, 1.0, 2.1) == std::nullopt);
+  // A relative tolerance must be finite.
+  term.relative_tolerance = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_AS(term.validate(), InvalidArgument);
+}
+
+TEST_CASE("a transform's inverse, composition, matrix and checked dimensions") {
+  RigidTransform<double, 3> T;
+  T.R << 0, -1, 0,
+         1, 0, 0,
+         0, 0, 1;  // a quarter turn about z
+  T.t << 1, 2, 3;
+  const auto inv = T.inverse();
+  CHECK(inv.R == Eigen::Matrix3d(T.R.transpose()));
+  CHECK(inv.t == Eigen::Vector3d(-2, 1, -3));  // -(R^T t)
+  const auto id = T * inv;
+  CHECK(id.R == Eigen::Matrix3d::Identity());
+  CHECK(id.t == Eigen::Vector3d::Zero());
+  const Eigen::Matrix4d h = T.matrix();
+  CHECK(h.topLeftCorner<3, 3>() == T.R);
+  CHECK(h.topRightCorner<3, 1>() == T.t);
+  CHECK(h.bottomRows<1>() == Eigen::RowVector4d(0, 0, 0, 1));
+  using Transform3 = RigidTransform<double, 3>;  // (no comma inside doctest's macros)
+  CHECK_THROWS_AS(Transform3::identity(4), DimensionMismatch);
+  // At run-time dimension, a translation of the wrong length is refused.
+  const RigidTransform<double, Eigen::Dynamic> uneven{Eigen::MatrixXd::Identity(3, 3), Eigen::VectorXd::Zero(4)};
+  try {
+    uneven.validate(3, "initial");
+    FAIL("accepted");
+  } catch (const DimensionMismatch& e) {
+    CHECK(e.argument() == "initial.t");
+  }
+}
+
+TEST_CASE("centroid alignment moves the test centroid exactly onto the reference centroid") {
+  Eigen::Matrix3Xd model(3, 4), test(3, 4);
+  model << 0, 1, 0, 0,
+           0, 0, 1, 0,
+           0, 0, 0, 1;
+  test << 2, 0, 0, 2,
+          0, 2, 0, 2,
+          0, 0, 2, 2;
+  const ReferenceCloud<double, 3> ref(model);
+  CHECK(ref.centroid() == Eigen::Vector3d::Constant(0.25));
+  Icp<double, 3> icp;
+  icp.centroid_alignment = true;
+  icp.termination.max_iterations = 0;  // the alignment alone
+  const auto r = icp.align(ref, test);
+  CHECK(r.iterations == 0);
+  CHECK(r.T_model_test.R == Eigen::Matrix3d::Identity());
+  CHECK(difference(r.T_model_test.t, Eigen::Vector3d::Constant(-0.75)) < 1e-15);  // 0.25 - 1 per axis
+}
+
+TEST_CASE("a planar refinement of a guess with an out-of-plane rotation composes as motion after guess") {
+  // T = A T0: the guess T0 tilts about x and shifts; the planar motion A
+  // (a turn about z and an (x, y) shift) is applied after it, so
+  // R = Rz Rx and t = Rz t0 + a, not Rx Rz or t0 + a.
+  const Eigen::MatrixXd model = random_points(3, 200, 17);
+  RigidTransform<double, 3> T0{axis_rotation(0, 0.5), Eigen::Vector3d(0.05, -0.04, 0.3)};
+  RigidTransform<double, 3> A{axis_rotation(2, 0.1), Eigen::Vector3d(0.02, -0.01, 0.0)};
+  const auto T = A * T0;
+  const Eigen::MatrixXd test = T.inverse() * model;
+  const auto r = Icp<double, 3, Planar>().align(ReferenceCloud<double, 3>(model), test, T0);
+  CHECK(r.converged);
+  CHECK(difference(r.T_model_test.R, T.R) < 1e-12);
+  CHECK(difference(r.T_model_test.t, T.t) < 1e-12);
+}
+
+TEST_CASE("the 3x3 closed form flags a singular value below the rank tolerance, as the SVD does") {
+  // Singular values 1, 0.5 and 5e-5 under float's rank tolerance (6.1e-5):
+  // well enough conditioned for the closed form to answer, rank deficient
+  // for the flag.
+  const double tol = detail::rank_tolerance<float>(3);
+  Rng rng(83);
+  for (int k = 0; k < 5; ++k) {
+    CAPTURE(k);
+    const Eigen::Matrix3d U = random_rotation(3, 3.0, rng), V = random_rotation(3, 3.0, rng);
+    const Eigen::Matrix3d H = U * Eigen::Vector3d(1.0, 0.5, 5e-5).asDiagonal() * V.transpose();
+    Eigen::Matrix3d R;
+    bool degenerate = false;
+    REQUIRE(detail::polar_rotation3<double>(H, tol, R, degenerate));
+    CHECK(degenerate);
+    Eigen::MatrixXd Rd;
+    bool by_svd = false;
+    detail::proper_rotation<double, Eigen::Dynamic>(Eigen::MatrixXd(H), tol, Rd, by_svd);
+    CHECK(by_svd);
+    CHECK(difference(R, Rd) < 1e-9);
+  }
+}
+
+TEST_CASE("pairs that lose one to the distance gate are no fixed point, even when the rest match as before") {
+  // Ten points on the x axis; nine test points sit 0.5 below their partners
+  // in z, the tenth 0.5 above. The first update moves all by the mean, +0.4
+  // in z: the tenth is then 0.9 from its partner, beyond the gate, and the
+  // other nine keep their partners. The nine remaining pairs give +0.5
+  // exactly at the next update; stopping there (as if the pairs had not
+  // changed) left 0.4 and E = 9 * 0.01.
+  Eigen::Matrix3Xd model = Eigen::Matrix3Xd::Zero(3, 10);
+  for (Index j = 0; j < 10; ++j) model(0, j) = static_cast<double>(j);
+  Eigen::Matrix3Xd test = model;
+  test.row(2).setConstant(-0.5);
+  test(2, 9) = 0.5;
+  Icp<double, 3, Translation> icp;
+  icp.rejection.max_distance = 0.8;
+  const auto r = icp.align(ReferenceCloud<double, 3>(model), test);
+  CHECK(r.pairs == 9);
+  CHECK(r.error < 1e-24);
+  CHECK(difference(r.T_model_test.t, Eigen::Vector3d(0, 0, 0.5)) < 1e-15);
+  CHECK(r.iterations == 2);
+}
