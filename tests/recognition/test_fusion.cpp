@@ -415,3 +415,91 @@ TEST_CASE("decision confidence") {
   CHECK(decision_confidence(vec({0.0, 0.0})) == 0.0);
   CHECK(decision_confidence(vec({0.3})) == 1.0);
 }
+
+TEST_CASE("weights sum to 1 within 1e-9, and every factor of a product is checked for negative distances") {
+  const Fusion icp = Fusion::classifier("icp"), bow = Fusion::classifier("bow"), iclap = Fusion::classifier("iclap");
+  // A thousandth off is refused, rounding of tenths is not.
+  CHECK(error_of([&] { Fusion f = 0.5 * icp + 0.501 * bow; }) ==
+        "weights | weights: the weights sum to 1.001, not 1, in 0.5*icp+0.501*bow");
+  CHECK(error_of([&] { Fusion f = 0.5 * icp + 0.4999 * bow; }).find("the weights sum to 0.9999, not 1") !=
+        std::string::npos);
+  CHECK(error_of([&] { Fusion f = 0.5 * icp + (0.5 + 1e-8) * bow; }).find("not 1, in") != std::string::npos);
+  CHECK(error_of([&] { Fusion f = 0.1 * icp + 0.2 * bow + 0.7 * iclap; }) == "(no error)");
+  CHECK(error_of([&] { Fusion f = 0.5 * icp + (0.5 + 1e-10) * bow; }) == "(no error)");
+  // A negative distance in the second or a later factor of a product, not
+  // only in the first (it gave the product -0.09, which won the decision).
+  const auto t = table_of({{"icp", vec({0.7, 0.1})}, {"bow", vec({0.1, -0.9})}, {"iclap", vec({0.5, 0.5})}});
+  CHECK(error_of([&] { (icp * bow).evaluate(t); }) ==
+        "distances | distances: product fusion needs non-negative distances, but bow has -0.9 (z-score "
+        "normalisation is signed: use l2 or minmax with products)");
+  CHECK(error_of([&] { (iclap * icp * bow).evaluate(t); }).find("but bow has -0.9") != std::string::npos);
+  CHECK(error_of([&] { (icp * iclap).evaluate(t); }) == "(no error)");
+}
+
+TEST_CASE("min-max normalisation refuses negative distances, as l2 does") {
+  for (const auto kind : {Normalization::L2, Normalization::MinMax}) {
+    CAPTURE(to_string(kind));
+    Eigen::VectorXd d = vec({0.5, -1.0, 2.0});
+    CHECK(error_of([&] { normalize(d, kind); }) == std::string("distances | distances: must be non-negative for ") +
+                                                         to_string(kind) + " normalisation (got -1.000000)");
+    CHECK(d == vec({0.5, -1.0, 2.0}));  // left as it was
+  }
+  Eigen::VectorXd z = vec({0.5, -1.0, 2.0});
+  normalize(z, Normalization::ZScore);  // signed by design
+  CHECK(z.sum() == doctest::Approx(0.0).epsilon(1e-12));
+}
+
+TEST_CASE("decision confidence: the best and second-best distances wherever they stand") {
+  // Descending, the second best last, the best first: 1 - 0.2 / 0.4 each time.
+  CHECK(decision_confidence(vec({0.8, 0.4, 0.2})) == doctest::Approx(0.5));
+  CHECK(decision_confidence(vec({0.2, 0.9, 0.4})) == doctest::Approx(0.5));
+  CHECK(decision_confidence(vec({0.9, 0.2, 0.7, 0.4})) == doctest::Approx(0.5));
+  CHECK(decision_confidence(vec({0.4, 0.2})) == doctest::Approx(0.5));
+  CHECK(decision_confidence(vec({0.6, 0.6, 0.3})) == doctest::Approx(0.5));
+  // Negative fused distances (a z-scored sum) have no relative margin.
+  CHECK(error_of([] { decision_confidence(vec({-0.1, 0.5})); }) ==
+        "fused | fused: confidence needs non-negative distances");
+  CHECK(error_of([] { decision_confidence(vec({0.5, 0.3, -0.2})); }).find("fused | ") == 0);
+}
+
+TEST_CASE("an alternative of a fitted method needs as many terms as the method") {
+  Method m = parse_method("icp+bow");
+  m.alternatives.push_back(parse_method("icp+bow+iclap").fusion);
+  CHECK(error_of([&] { m.validate(); }) ==
+        "methods | methods: method 'icp+bow' fits weights, but its alternative "
+        "0.333333*icp+0.333333*bow+0.333333*iclap is not a weighted sum of 2 terms");
+  m.alternatives.back() = parse_method("iclap+bow").fusion;
+  CHECK(error_of([&] { m.validate(); }) == "(no error)");
+}
+
+TEST_CASE("a recogniser refuses two classifiers of one name") {
+  // Their distances would share one entry of the table: the second replaced
+  // the first, and a fusion used one of them twice.
+  std::vector<std::unique_ptr<Classifier>> cs;
+  cs.push_back(std::make_unique<BowClassifier>());
+  cs.push_back(std::make_unique<HeightClassifier>());
+  cs.push_back(std::make_unique<BowClassifier>());
+  CHECK(error_of([&] { Recognizer rec(std::move(cs)); }) ==
+        "classifiers | classifiers: two classifiers are named 'bow'");
+  std::vector<std::unique_ptr<Classifier>> labelled;
+  labelled.push_back(std::make_unique<HeightClassifier>());
+  auto second = std::make_unique<HeightClassifier>();
+  second->label = "height2";
+  labelled.push_back(std::move(second));
+  CHECK(error_of([&] { Recognizer rec(std::move(labelled)); }) == "(no error)");
+}
+
+TEST_CASE("check_weight_steps: at most 1e6 weight vectors per fitted sum") {
+  // 3 terms of at least one step each: C(steps - 1, 2) vectors; 1415 steps
+  // give 998991, 1416 give 1000405.
+  const Fusion three = parse_method("icp+bow+iclap").fusion;
+  CHECK(weight_grid_size(3, 1415, false) == 998991.0);
+  CHECK(error_of([&] { check_weight_steps("m", three, 1415, false); }) == "(no error)");
+  CHECK(error_of([&] { check_weight_steps("m", three, 1416, false); }) ==
+        "weight_steps | weight_steps: is 1416: the grid of the 3 terms of method 'm' "
+        "(0.333333*icp+0.333333*bow+0.333333*iclap) has 1.0004e+06 weight vectors, more than 1e+06; lower it");
+  // With zero weights: C(steps + 2, 2); 1412 steps give 998991.
+  CHECK(error_of([&] { check_weight_steps("m", three, 1412, true); }) == "(no error)");
+  CHECK(error_of([&] { check_weight_steps("m", three, 1413, true); }).find("has 1.0004e+06 weight vectors") !=
+        std::string::npos);
+}

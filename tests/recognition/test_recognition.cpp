@@ -6,9 +6,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <set>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "iclap/core/random.hpp"
@@ -672,4 +676,178 @@ TEST_CASE("inner_codebooks: every inner fold fits its codebook without its held-
   // The fitted method still has weights summing to 1 in every fold.
   REQUIRE(b.methods[1].fold_weights.size() == 4);
   for (const auto& w : b.methods[1].fold_weights) CHECK(w[0] + w[1] == doctest::Approx(1.0));
+}
+
+namespace {
+/// What one fitted classifier saw: the table rows of its references and of
+/// every test set it was asked about.
+struct FitRecord {
+  std::set<Index> references;
+  std::vector<std::vector<Index>> tests;
+};
+struct FitLog {
+  std::mutex mutex;
+  std::vector<FitRecord> fits;  // in fit order
+};
+
+/// A classifier that reads each touch's table row, object and exploration
+/// rank off its position (x, y, z), as `tagged_table` writes them, and gives
+/// distance 0 to object (truth + shift) mod N and 1 to the others: shift 0
+/// is always right, shift 1 always names the next object. With a log, it
+/// records every fit and test set.
+struct Oracle final : Classifier {
+  std::string label;
+  Index shift = 0;
+  std::shared_ptr<FitLog> log;
+  Index n = 0;
+  std::size_t record = 0;
+  Oracle(std::string name, Index s, std::shared_ptr<FitLog> l = nullptr)
+      : label(std::move(name)), shift(s), log(std::move(l)) {}
+  std::string name() const override { return label; }
+  void fit(const std::vector<TouchSet>& objects, Index) override {
+    n = static_cast<Index>(objects.size());
+    if (!log) return;
+    const std::lock_guard<std::mutex> lock(log->mutex);
+    record = log->fits.size();
+    log->fits.emplace_back();
+    for (const auto& o : objects)
+      for (Index i = 0; i < o.size(); ++i) log->fits.back().references.insert(row_of(o, i));
+  }
+  void distances(const TouchSet& test, Eigen::Ref<Eigen::VectorXd> out) const override {
+    const auto truth = static_cast<Index>(std::lround(test.positions(1, 0)));
+    out.setOnes();
+    out((truth + shift) % n) = 0;
+    if (!log) return;
+    std::vector<Index> rows;
+    for (Index i = 0; i < test.size(); ++i) rows.push_back(row_of(test, i));
+    const std::lock_guard<std::mutex> lock(log->mutex);
+    log->fits[record].tests.push_back(rows);
+  }
+  Index objects() const override { return n; }
+  static Index row_of(const TouchSet& s, Index i) { return static_cast<Index>(std::lround(s.positions(0, i))); }
+};
+
+/// synthetic_table(seed) with each touch's position replaced by (table row,
+/// object, exploration rank), for Oracle.
+TouchTable tagged_table(std::uint64_t seed) {
+  TouchTable t = synthetic_table(seed);
+  for (Index i = 0; i < t.size(); ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    t.touches.positions.col(i) = Eigen::Vector3d(static_cast<double>(i), static_cast<double>(t.object[k]),
+                                                 static_cast<double>(t.exploration[k] - 10));
+  }
+  return t;
+}
+}  // namespace
+
+TEST_CASE("cross validation: each fold and inner fold fits on its training explorations and tests the held-out one") {
+  const TouchTable t = tagged_table(4);  // 3 objects x explorations 10..13 x 25 touches, rows in that order
+  const auto log = std::make_shared<FitLog>();
+  auto factory = [log] {
+    std::vector<std::unique_ptr<Classifier>> cs;
+    cs.push_back(std::make_unique<Oracle>("right", 0, log));
+    cs.push_back(std::make_unique<Oracle>("wrong", 1));
+    return cs;
+  };
+  CrossValidationSettings s;
+  s.touches = {1, 24, 30};  // 30: more than an exploration has
+  s.repeats = 3;
+  s.weight_repeats = 2;
+  s.seed = 11;
+  s.threads = 1;
+  const auto r = CrossValidation<>(t, factory, codebook(4), {parse_method("right+wrong")}, s).run();
+  const auto rank = [&](Index row) { return static_cast<int>(t.exploration[static_cast<std::size_t>(row)] - 10); };
+  const auto object = [&](Index row) { return t.object[static_cast<std::size_t>(row)]; };
+  const auto rows_without = [&](int a, int b) {
+    std::set<Index> out;
+    for (Index i = 0; i < t.size(); ++i)
+      if (rank(i) != a && rank(i) != b) out.insert(i);
+    return out;
+  };
+
+  // Per outer fold f: an inner fold for each other exploration g, then the
+  // outer test. Every fit's references are its training explorations, and
+  // it is tested on its held-out one only, never on the outer test.
+  REQUIRE(log->fits.size() == 4 * 4);
+  for (int f = 0; f < 4; ++f) {
+    std::size_t at = static_cast<std::size_t>(4 * f);
+    for (int g = 0; g < 4; ++g) {
+      if (g == f) continue;
+      CAPTURE(f);
+      CAPTURE(g);
+      const FitRecord& inner = log->fits[at++];
+      CHECK(inner.references == rows_without(f, g));
+      CHECK(inner.tests.size() == 3 * 3 * 2);  // objects x touch counts x weight_repeats
+      for (const auto& test : inner.tests)
+        for (Index row : test) CHECK(rank(row) == g);
+    }
+    CAPTURE(f);
+    const FitRecord& outer = log->fits[at];
+    CHECK(outer.references == rows_without(f, f));
+    REQUIRE(outer.tests.size() == 3 * 3 * 3);  // objects x touch counts x repeats
+    // Draws of one object's held-out touches, without repeats, capped at 25.
+    std::map<std::pair<Index, std::size_t>, std::vector<std::vector<Index>>> draws;  // (object, size) -> draws
+    for (const auto& test : outer.tests) {
+      std::set<Index> distinct(test.begin(), test.end());
+      CHECK(distinct.size() == test.size());
+      for (Index row : test) {
+        CHECK(rank(row) == f);
+        CHECK(object(row) == object(test.front()));
+      }
+      // As offsets into the exploration's 25 rows, to compare objects.
+      std::vector<Index> offsets;
+      for (Index row : test) offsets.push_back(row % 25);
+      draws[{object(test.front()), test.size()}].push_back(offsets);
+    }
+    for (Index o = 0; o < 3; ++o) {
+      CAPTURE(o);
+      for (std::size_t size : {std::size_t{1}, std::size_t{24}, std::size_t{25}}) CHECK(draws[{o, size}].size() == 3);
+      // Each repeat, touch count, object and fold has a random stream of its
+      // own: the three 24-touch draws differ, and differ from another
+      // object's; and across all of them any touch can be the one left out.
+      const auto& d24 = draws[{o, 24}];
+      CHECK((d24[0] != d24[1] || d24[1] != d24[2]));
+      CHECK(d24 != draws[{(o + 1) % 3, 24}]);
+    }
+  }
+  std::set<Index> left_out;
+  for (std::size_t k = 3; k < log->fits.size(); k += 4)
+    for (const auto& test : log->fits[k].tests)
+      if (test.size() == 24)
+        for (Index offset = 0; offset < 25; ++offset)
+          if (std::none_of(test.begin(), test.end(), [&](Index row) { return row % 25 == offset; }))
+            left_out.insert(offset);
+  CHECK(left_out.size() > 1);
+  // Only the outer test's 30-touch draws count as capped.
+  CHECK(r.capped_draws == 4 * 3 * 3);
+}
+
+TEST_CASE("cross validation: fitted weights win on rate, then on margin; the sweep counts every grid vector") {
+  // right + wrong: w right + (1 - w) wrong recognises every test for w >= 0.6,
+  // the objects whose successor has a larger index at w = 0.5 (the tie goes to
+  // the smaller index), none below. The margin grows with w, so 0.9 wins.
+  const TouchTable t = tagged_table(4);
+  auto factory = [] {
+    std::vector<std::unique_ptr<Classifier>> cs;
+    cs.push_back(std::make_unique<Oracle>("right", 0));
+    cs.push_back(std::make_unique<Oracle>("wrong", 1));
+    return cs;
+  };
+  CrossValidationSettings s;
+  s.touches = {1, 3};
+  s.repeats = 2;
+  s.weight_repeats = 1;
+  const auto r = CrossValidation<>(t, factory, codebook(4), {parse_method("right+wrong")}, s).run();
+  const MethodResult& m = r.methods.at(0);
+  CHECK(m.fold_weights == std::vector<std::vector<double>>(4, weight_grid(2).back()));
+  CHECK(m.correct == std::vector<Index>{24, 24});
+  REQUIRE(r.sweeps.size() == 1);
+  const WeightSweep& sw = r.sweeps[0];
+  REQUIRE(sw.grid == weight_grid(2));
+  CHECK(sw.total == std::vector<Index>{24, 24});
+  for (std::size_t g = 0; g < sw.grid.size(); ++g) {
+    CAPTURE(g);
+    const Index expected = g < 4 ? 0 : g == 4 ? 16 : 24;  // w = 0.1 .. 0.4, 0.5, 0.6 .. 0.9
+    CHECK(sw.correct[g] == std::vector<Index>{expected, expected});
+  }
 }

@@ -726,3 +726,122 @@ TEST_CASE("assign_words catches a quantizer that returns ids outside its vocabul
   }
   CHECK_THROWS_AS(assign_words(KMeansQuantizer<double>(), features), InvalidArgument);  // not fitted
 }
+
+TEST_CASE("k-means++: the first centre is uniform, the next ones weighted by the squared distance") {
+  // With no Lloyd iteration (max_iterations = 0) the codebook is the seeding.
+  // k = 1 on four distinct features: each is the first centre about a
+  // quarter of the time (400 seeds: 100 expected, 8.7 standard deviations).
+  Cloud<double, 1> four(1, 4);
+  four << 0.0, 1.0, 2.0, 3.0;
+  std::vector<int> first(4, 0);
+  for (std::uint64_t seed = 0; seed < 400; ++seed) {
+    KMeansQuantizer<double, 1> q;
+    q.settings.k = 1;
+    q.settings.seed = seed;
+    q.settings.max_iterations = 0;
+    q.fit(four);
+    ++first[static_cast<std::size_t>(std::lround(q.centres()(0, 0)))];
+  }
+  for (const int count : first) CHECK((count >= 65 && count <= 135));
+  // k = 2 on 98 features at 0, one at 1 and one at 2: after a first centre at
+  // 0, the one at 2 is drawn with probability 4 / (1 + 4) (D^2; 2/3 by the
+  // distance D). With the first centre at 1 or 2 (2%): 0.794 in all; 1000
+  // seeds: 794 expected, 12.8 standard deviations (D would give 663).
+  Cloud<double, 1> x = Cloud<double, 1>::Zero(1, 100);
+  x(0, 98) = 1.0;
+  x(0, 99) = 2.0;
+  int far = 0;
+  for (std::uint64_t seed = 0; seed < 1000; ++seed) {
+    KMeansQuantizer<double, 1> q;
+    q.settings.k = 2;
+    q.settings.seed = seed;
+    q.settings.max_iterations = 0;
+    q.fit(x);
+    far += (q.centres().array() == 2.0).any() ? 1 : 0;
+  }
+  CHECK(far >= 745);
+  CHECK(far <= 845);
+}
+
+TEST_CASE("k-means: a re-seed never takes a cluster's only feature; a last re-seed is assigned again") {
+  // Ten features near the origin, one 3 above it, and one alone at (90, 0)
+  // nearest the second initial centre; the third centre gets nothing. The
+  // farthest feature from its centre is the lone one (distance 10), but
+  // moving it would empty its cluster: the outlier at (0, 3) is re-seeded.
+  Cloud<double, 2> x(2, 12);
+  for (Index i = 0; i < 10; ++i) x.col(i) = Eigen::Vector2d(0.01 * static_cast<double>(i), 0.0);
+  x.col(10) = Eigen::Vector2d(0.0, 3.0);
+  x.col(11) = Eigen::Vector2d(90.0, 0.0);
+  Cloud<double, 2> initial(2, 3);
+  initial << 0.0, 100.0, 500.0,  //
+      0.0, 0.0, 500.0;
+  KMeansQuantizer<double, 2> q;
+  q.settings.k = 3;
+  const auto r = q.fit_from(x, initial);
+  CHECK(r.reseeded == 1);
+  CHECK(r.empty_clusters == 0);
+  CHECK(r.labels[10] == 2);
+  CHECK(r.labels[11] == 1);
+  CHECK(q.centres().col(1) == Eigen::Vector2d(90.0, 0.0));
+  CHECK(q.centres().col(2) == Eigen::Vector2d(0.0, 3.0));
+
+  // A re-seed in the last allowed step (max_iterations = 0: the first
+  // assignment's) moves a centre after the features were assigned: here
+  // onto (0, 3.1), which the feature at (0, 3) is then nearer to than to
+  // the origin; the final labels are assign()'s.
+  Cloud<double, 2> y(2, 12);
+  for (Index i = 0; i < 9; ++i) y.col(i) = Eigen::Vector2d(0.01 * static_cast<double>(i), 0.0);
+  y.col(9) = Eigen::Vector2d(10.0, 0.0);
+  y.col(10) = Eigen::Vector2d(0.0, 3.0);
+  y.col(11) = Eigen::Vector2d(0.0, 3.1);
+  Cloud<double, 2> start = initial;
+  start.col(1) = Eigen::Vector2d(10.0, 0.0);
+  KMeansQuantizer<double, 2> last;
+  last.settings.k = 3;
+  last.settings.max_iterations = 0;
+  const auto rl = last.fit_from(y, start);
+  CHECK(rl.stop == KMeansStop::MaxIterations);
+  CHECK(rl.reseeded == 1);
+  CHECK(rl.labels[10] == 2);
+  CHECK(rl.labels[11] == 2);
+  CHECK(rl.labels == assign_words(last, y));
+  CHECK(rl.cluster_sizes == (WordIds(3) << 9, 1, 2).finished());
+  // (0, 3) to (0, 3.1), and the nine features 0.01 i from the origin.
+  CHECK(rl.inertia == doctest::Approx(0.01 + 0.0204).epsilon(1e-12));
+}
+
+TEST_CASE("k-means: k equal to the number of features gives each its own word") {
+  Cloud<double, 2> x(2, 5);
+  x << 0.0, 1.0, 4.0, 9.0, 16.0,  //
+      0.0, 0.0, 0.0, 0.0, 1.0;
+  KMeansQuantizer<double, 2> q;
+  q.settings.k = 5;
+  const auto r = q.fit(x);
+  CHECK(r.inertia == 0.0);
+  CHECK(r.empty_clusters == 0);
+  std::set<Index> words(r.labels.data(), r.labels.data() + r.labels.size());
+  CHECK(words.size() == 5);
+  for (Index i = 0; i < 5; ++i) CHECK(q.centres().col(r.labels[i]) == x.col(i));
+}
+
+TEST_CASE("E_BoW of normalised histograms: clamped at 0 despite rounding, and the sum checked within 1e-6") {
+  // Tenths of 2, 4, 3 and 1 add up to 1 + 2.2e-16 in double: the
+  // intersection of the histogram with itself is 0, not -2.2e-16.
+  const WordHistogram tenths = word_histogram(std::vector<Index>{0, 0, 1, 1, 1, 1, 2, 2, 2, 3}, 4);
+  CHECK(histogram_intersection_distance(tenths, tenths) == 0.0);
+  // A histogram that sums to 1.01 or 0.999 is not normalised; 1 + 1e-7 is.
+  const Eigen::Vector4d h(0.25, 0.25, 0.25, 0.25);
+  CHECK_THROWS_WITH_AS(histogram_intersection_distance(h, Eigen::Vector4d(0.26, 0.25, 0.25, 0.25)),
+                       "h_class: sums to 1.010000, expected 1 (normalise it first)", InvalidArgument);
+  CHECK_THROWS_WITH_AS(histogram_intersection_distance(Eigen::Vector4d(0.249, 0.25, 0.25, 0.25), h),
+                       "h_test: sums to 0.999000, expected 1 (normalise it first)", InvalidArgument);
+  CHECK(histogram_intersection_distance(h, Eigen::Vector4d(0.25 + 1e-7, 0.25, 0.25, 0.25)) ==
+        doctest::Approx(0.0).epsilon(1e-12));
+}
+
+TEST_CASE("assign_words refuses a quantizer without words before asking it") {
+  CHECK_THROWS_WITH_AS(assign_words(KMeansQuantizer<double>(), Eigen::MatrixXd::Zero(3, 4)),
+                       "quantizer: has no words (is it fitted?)", InvalidArgument);
+  CHECK_THROWS_WITH_AS(assign_words(KMeansQuantizer<double>(), Eigen::MatrixXd::Zero(3, 0)),
+                       "quantizer: has no words (is it fitted?)", InvalidArgument);
+}
