@@ -108,8 +108,12 @@ class Fusion {
       if (w < 0)
         throw InvalidArgument("weights", "negative weight " + format_value(w) + " for " + f.children_[i].to_string() + " in " + expr);
     }
-    if (std::abs(sum - 1.0) > 1e-9)
-      throw InvalidArgument("weights", "the weights sum to " + format_value(sum) + ", not 1, in " + expr);
+    if (std::abs(sum - 1.0) > 1e-9) {
+      // Six digits unless they round to "1": then every digit it takes.
+      std::string shown = format_value(sum);
+      if (shown == "1") shown = format_exact(sum);
+      throw InvalidArgument("weights", "the weights sum to " + shown + ", not 1, in " + expr);
+    }
     return f;
   }
 
