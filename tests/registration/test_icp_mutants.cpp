@@ -40,6 +40,15 @@ Eigen::Matrix3d axis_rotation(int axis, double angle) {
   return Eigen::AngleAxisd(angle, u).toRotationMatrix();
 }
 
+/// The origin and the three unit points, one per column.
+Eigen::Matrix3Xd origin_and_units() {
+  Eigen::Matrix3Xd m(3, 4);
+  m << 0, 1, 0, 0,
+       0, 0, 1, 0,
+       0, 0, 0, 1;
+  return m;
+}
+
 }  // namespace
 
 TEST_CASE("the distance gate compares squared distances and keeps a pair exactly at max_distance") {
@@ -67,10 +76,8 @@ TEST_CASE("with rejection, E and RMSE are those of the kept pairs only") {
   // Model: the origin and the three unit points. Test: three points at
   // squared distances 0.01, 0.04 and 0.09 from their partners and one
   // outlier at squared distance 66 from its nearest.
-  Eigen::Matrix3Xd model(3, 4), test(3, 4);
-  model << 0, 1, 0, 0,
-           0, 0, 1, 0,
-           0, 0, 0, 1;
+  const Eigen::Matrix3Xd model = origin_and_units();
+  Eigen::Matrix3Xd test(3, 4);
   test << 0.1, 1.0, 0.0, 5,
           0.0, 0.2, 0.0, 5,
           0.0, 0.0, 1.3, 5;
@@ -138,10 +145,8 @@ TEST_CASE("a transform's inverse, composition, matrix and checked dimensions") {
 }
 
 TEST_CASE("centroid alignment moves the test centroid exactly onto the reference centroid") {
-  Eigen::Matrix3Xd model(3, 4), test(3, 4);
-  model << 0, 1, 0, 0,
-           0, 0, 1, 0,
-           0, 0, 0, 1;
+  const Eigen::Matrix3Xd model = origin_and_units();
+  Eigen::Matrix3Xd test(3, 4);
   test << 2, 0, 0, 2,
           0, 2, 0, 2,
           0, 0, 2, 2;

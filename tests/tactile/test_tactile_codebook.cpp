@@ -58,6 +58,17 @@ bool bitwise_equal(const M& a, const M& b) {
          std::memcmp(a.data(), b.data(), sizeof(typename M::Scalar) * static_cast<std::size_t>(a.size())) == 0;
 }
 
+/// A fit that gave each distinct feature of `x` a word of its own: k words
+/// used, none empty, no inertia, and every feature's word centred on it.
+template <typename Quantizer, typename Result, typename Features>
+void check_word_per_feature(const Quantizer& q, const Result& r, const Features& x, std::size_t k) {
+  CHECK(r.inertia == 0.0);
+  CHECK(r.empty_clusters == 0);
+  const std::set<Index> words(r.labels.data(), r.labels.data() + r.labels.size());
+  CHECK(words.size() == k);
+  for (Index i = 0; i < x.cols(); ++i) CHECK(q.centres().col(r.labels[i]) == x.col(i));
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------
@@ -292,11 +303,7 @@ TEST_CASE("k-means: identical features, k = 1, and k = number of distinct featur
   KMeansQuantizer<float, 3> seven;
   seven.settings.k = 7;
   const auto r7 = seven.fit(dup);
-  CHECK(r7.inertia == 0.0);
-  CHECK(r7.empty_clusters == 0);
-  std::set<Index> words(r7.labels.data(), r7.labels.data() + r7.labels.size());
-  CHECK(words.size() == 7);
-  for (Index i = 0; i < 35; ++i) CHECK(seven.centres().col(r7.labels[i]) == dup.col(i));
+  check_word_per_feature(seven, r7, dup, 7);
   seven.settings.k = 8;
   try {
     seven.fit(dup);
@@ -733,15 +740,17 @@ TEST_CASE("k-means++: the first centre is uniform, the next ones weighted by the
   // quarter of the time (400 seeds: 100 expected, 8.7 standard deviations).
   Cloud<double, 1> four(1, 4);
   four << 0.0, 1.0, 2.0, 3.0;
-  std::vector<int> first(4, 0);
-  for (std::uint64_t seed = 0; seed < 400; ++seed) {
+  const auto seeding = [](const Cloud<double, 1>& x, Index k, std::uint64_t seed) {
     KMeansQuantizer<double, 1> q;
-    q.settings.k = 1;
+    q.settings.k = k;
     q.settings.seed = seed;
     q.settings.max_iterations = 0;
-    q.fit(four);
-    ++first[static_cast<std::size_t>(std::lround(q.centres()(0, 0)))];
-  }
+    q.fit(x);
+    return Eigen::MatrixXd(q.centres());
+  };
+  std::vector<int> first(4, 0);
+  for (std::uint64_t seed = 0; seed < 400; ++seed)
+    ++first[static_cast<std::size_t>(std::lround(seeding(four, 1, seed)(0, 0)))];
   for (const int count : first) CHECK((count >= 65 && count <= 135));
   // k = 2 on 98 features at 0, one at 1 and one at 2: after a first centre at
   // 0, the one at 2 is drawn with probability 4 / (1 + 4) (D^2; 2/3 by the
@@ -751,14 +760,7 @@ TEST_CASE("k-means++: the first centre is uniform, the next ones weighted by the
   x(0, 98) = 1.0;
   x(0, 99) = 2.0;
   int far = 0;
-  for (std::uint64_t seed = 0; seed < 1000; ++seed) {
-    KMeansQuantizer<double, 1> q;
-    q.settings.k = 2;
-    q.settings.seed = seed;
-    q.settings.max_iterations = 0;
-    q.fit(x);
-    far += (q.centres().array() == 2.0).any() ? 1 : 0;
-  }
+  for (std::uint64_t seed = 0; seed < 1000; ++seed) far += (seeding(x, 2, seed).array() == 2.0).any() ? 1 : 0;
   CHECK(far >= 745);
   CHECK(far <= 845);
 }
@@ -816,12 +818,7 @@ TEST_CASE("k-means: k equal to the number of features gives each its own word") 
       0.0, 0.0, 0.0, 0.0, 1.0;
   KMeansQuantizer<double, 2> q;
   q.settings.k = 5;
-  const auto r = q.fit(x);
-  CHECK(r.inertia == 0.0);
-  CHECK(r.empty_clusters == 0);
-  std::set<Index> words(r.labels.data(), r.labels.data() + r.labels.size());
-  CHECK(words.size() == 5);
-  for (Index i = 0; i < 5; ++i) CHECK(q.centres().col(r.labels[i]) == x.col(i));
+  check_word_per_feature(q, q.fit(x), x, 5);
 }
 
 TEST_CASE("E_BoW of normalised histograms: clamped at 0 despite rounding, and the sum checked within 1e-6") {
