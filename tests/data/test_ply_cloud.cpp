@@ -3,8 +3,6 @@
 
 #include <doctest/doctest.h>
 
-#include <unistd.h>
-
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -26,11 +24,7 @@ std::string slurp(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-std::string temp_file(const std::string& name) {
-  return (fs::temp_directory_path() / ("iclap_test_ply_" + std::to_string(static_cast<long>(::getpid())) +
-                                       "_" + name))
-      .string();
-}
+using iclap::test::TempDir;
 
 }  // namespace
 
@@ -40,10 +34,10 @@ TEST_CASE("labeled cloud ply: ascii content") {
       0, 2, 3,           //
       1.0 / 3.0, 4, 5;
   const std::vector<int> labels = {0, 7, -1};
-  const std::string path = temp_file("ascii.ply");
+  const TempDir dir("ply_ascii");
+  const std::string path = dir.file("ascii.ply");
   iclap::write_labeled_cloud_ply(path, p, labels, {iclap::PlyEncoding::ascii, {"object pliers_1"}});
   const std::string text = slurp(path);
-  fs::remove(path);
   const auto c0 = iclap::label_colour(0), c7 = iclap::label_colour(7);
   const std::string expected =
       "ply\nformat ascii 1.0\ncomment written by iclap (labeled point cloud)\n"
@@ -64,10 +58,10 @@ TEST_CASE("labeled cloud ply: binary little endian layout") {
   p << 1, 2, 3, 4, 5, 6;
   Eigen::VectorXi labels(2);
   labels << 3, 258;
-  const std::string path = temp_file("binary.ply");
+  const TempDir dir("ply_binary");
+  const std::string path = dir.file("binary.ply");
   iclap::write_labeled_cloud_ply(path, p, labels, {iclap::PlyEncoding::binary_little_endian, {}});
   const std::string data = slurp(path);
-  fs::remove(path);
   const auto body_at = data.find("end_header\n");
   REQUIRE(body_at != std::string::npos);
   CHECK(data.find("format binary_little_endian 1.0\n") != std::string::npos);
@@ -97,7 +91,8 @@ TEST_CASE("labeled cloud ply: binary little endian layout") {
 }
 
 TEST_CASE("labeled cloud ply: bad input is rejected and writes nothing") {
-  const std::string path = temp_file("bad.ply");
+  const TempDir dir("ply_bad");
+  const std::string path = dir.file("bad.ply");
   Eigen::Matrix3Xd p = Eigen::Matrix3Xd::Zero(3, 2);
   CHECK_THROWS_AS(iclap::write_labeled_cloud_ply(path, p, std::vector<int>{1}), iclap::DimensionMismatch);
   Eigen::MatrixXd p4 = Eigen::MatrixXd::Zero(4, 2);
@@ -120,7 +115,8 @@ TEST_CASE("labeled cloud ply: bad input is rejected and writes nothing") {
 TEST_CASE("labeled cloud ply: binary refuses a finite coordinate beyond float32, ascii keeps it") {
   // 1e39 is a finite double but inf as float32: the binary file would hold
   // inf where the caller gave a number. Refused before anything is written.
-  const std::string path = temp_file("beyond_float.ply");
+  const TempDir dir("ply_beyond_float");
+  const std::string path = dir.file("beyond_float.ply");
   Eigen::Matrix3Xd p = Eigen::Matrix3Xd::Zero(3, 3);
   p(1, 2) = -1e39;
   const std::vector<int> labels = {0, 1, 2};
@@ -139,14 +135,12 @@ TEST_CASE("labeled cloud ply: binary refuses a finite coordinate beyond float32,
   p(1, 2) = -static_cast<double>(std::numeric_limits<float>::max());
   iclap::write_labeled_cloud_ply(path, p, labels, {iclap::PlyEncoding::binary_little_endian, {}});
   const auto back = iclap::read_ply(path);
-  fs::remove(path);
   REQUIRE(back.vertices.cols() == 3);
   CHECK(back.vertices(1, 2) == p(1, 2));
   // ASCII writes doubles: 1e39 is kept as is.
   p(1, 2) = -1e39;
   iclap::write_labeled_cloud_ply(path, p, labels, {iclap::PlyEncoding::ascii, {}});
   CHECK(iclap::read_ply(path).vertices(1, 2) == -1e39);
-  fs::remove(path);
 }
 
 TEST_CASE("labeled cloud ply: reads back with a PLY reader (ascii exact, binary float)") {
@@ -158,10 +152,10 @@ TEST_CASE("labeled cloud ply: reads back with a PLY reader (ascii exact, binary 
     labels[static_cast<std::size_t>(i)] = static_cast<int>(rng.below(50));
   }
   for (auto enc : {iclap::PlyEncoding::ascii, iclap::PlyEncoding::binary_little_endian}) {
-    const std::string path = temp_file("readback.ply");
+    const TempDir dir("ply_readback");
+    const std::string path = dir.file("readback.ply");
     iclap::write_labeled_cloud_ply(path, p, labels, {enc, {}});
     const auto back = iclap::read_ply(path);
-    fs::remove(path);
     REQUIRE(back.vertices.cols() == 200);
     CHECK(back.triangles.cols() == 0);
     if (enc == iclap::PlyEncoding::ascii) CHECK(back.vertices == p);

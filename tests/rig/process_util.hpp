@@ -22,6 +22,8 @@
 
 #include <doctest/doctest.h>
 
+#include "../support/temporaries.hpp"
+
 extern char** environ;
 
 namespace iclap::rig::test {
@@ -90,23 +92,11 @@ inline ProcessResult run_process(const std::vector<std::string>& argv, const std
   return r;
 }
 
-/// A fresh directory under the system temporary directory, named by
-/// `prefix` and the process id, removed with its contents at scope exit.
-/// `scratch("name")` is the path of a file in it.
-struct ScratchDir {
-  std::filesystem::path dir;
-  explicit ScratchDir(const std::string& prefix)
-      : dir(std::filesystem::temp_directory_path() / (prefix + std::to_string(::getpid()))) {
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-  }
-  ~ScratchDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir, ignored);
-  }
-  ScratchDir(const ScratchDir&) = delete;
-  ScratchDir& operator=(const ScratchDir&) = delete;
-  std::string operator()(const std::string& name) const { return (dir / name).string(); }
+/// A scratch directory (::iclap::test::TempDir) whose `scratch("name")` is
+/// the path of a file in it.
+struct ScratchDir : ::iclap::test::TempDir {
+  using TempDir::TempDir;
+  std::string operator()(const std::string& name) const { return file(name); }
 };
 
 #ifdef ICLAP_CLI_PATH

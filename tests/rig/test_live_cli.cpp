@@ -51,7 +51,7 @@ const std::string kMethod = "0.6*iclap+0.2*icp+0.2*bow";
 
 /// A scratch directory of this test program.
 struct Scratch : test::ScratchDir {
-  Scratch() : test::ScratchDir("iclap_live_") {}
+  Scratch() : test::ScratchDir("live") {}
 };
 
 using test::run_iclap;
@@ -539,7 +539,7 @@ TEST_CASE("iclap live --cross-validate: source options are refused, --traces is 
       {with({"--sim-seed", "5"}), "--cross-validate takes no --sim-seed"},
       {with({"--unit", "mm"}), "--cross-validate takes no --unit"},
   };
-  fs::create_directories(scratch.dir / "tracedir");
+  fs::create_directories(scratch.path / "tracedir");
   const std::string missing = scratch("nodir") + "/t.csv";
   cases.push_back({with({"--traces", missing}),
                    "--traces '" + missing + "': the directory '" + scratch("nodir") + "' does not exist"});
@@ -551,7 +551,7 @@ TEST_CASE("iclap live --cross-validate: source options are refused, --traces is 
     CHECK(r.status == 2);
     CHECK(r.out.empty());
   }
-  CHECK(fs::is_empty(scratch.dir / "tracedir"));
+  CHECK(fs::is_empty(scratch.path / "tracedir"));
 }
 
 TEST_CASE("iclap live --cross-validate: the default --fixed counts are those --max-touches allows") {

@@ -32,7 +32,7 @@ namespace {
 
 /// A scratch directory of this test program.
 struct Scratch : test::ScratchDir {
-  Scratch() : test::ScratchDir("iclap_record_") {}
+  Scratch() : test::ScratchDir("record") {}
 };
 
 using test::run_iclap;
@@ -451,7 +451,7 @@ TEST_CASE("iclap record: usage errors exit 2 and name the option") {
 
 TEST_CASE("iclap devices: serial ports under a device root, and HID enumeration") {
   Scratch scratch;
-  const fs::path root = scratch.dir / "dev";
+  const fs::path root = scratch.path / "dev";
   fs::create_directories(root / "serial" / "by-id");
   for (const char* name : {"ttyACM10", "ttyACM2", "ttyUSB0", "ttyS0", "ttyACMx"}) std::ofstream(root / name) << "";
   fs::create_symlink("../../ttyACM2", root / "serial" / "by-id" / "usb-Weiss_Robotics_WTS0614-34A_0001-if00");
@@ -474,8 +474,8 @@ TEST_CASE("iclap devices: serial ports under a device root, and HID enumeration"
   CHECK(r.out.find("dangling") == std::string::npos);
   CHECK(r.out.find("HID") == std::string::npos);
 
-  fs::create_directories(scratch.dir / "empty");
-  r = run_iclap({"devices", "--dev-root", (scratch.dir / "empty").string()}, scratch);
+  fs::create_directories(scratch.path / "empty");
+  r = run_iclap({"devices", "--dev-root", (scratch.path / "empty").string()}, scratch);
   CHECK(r.status == 0);
   CHECK(r.out.find("Serial ports: none found") != std::string::npos);
   CHECK(r.out.find("HID devices") != std::string::npos);  // listed, or "none found"

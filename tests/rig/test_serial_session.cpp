@@ -24,6 +24,7 @@
 #include "iclap/rig/serial_port.hpp"
 #include "iclap/rig/wts_sensor.hpp"
 #include "rig_test_util.hpp"
+#include "../support/temporaries.hpp"
 
 using namespace iclap::rig;
 using namespace std::chrono_literals;
@@ -58,10 +59,6 @@ struct StreamingFake {
   }
 };
 
-std::string temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("iclap_rig_" + std::to_string(::getpid()) + "_" + name)).string();
-}
-
 }  // namespace
 
 TEST_CASE("Serial port: open errors name the path and the cause") {
@@ -72,7 +69,8 @@ TEST_CASE("Serial port: open errors name the path and the cause") {
     CHECK(e.path() == "/dev/iclap-no-such-port");
     CHECK(std::string(e.what()).find("No such file") != std::string::npos);
   }
-  const std::string file = temp_path("not_a_tty");
+  const iclap::test::TempDir dir("serial_open");
+  const std::string file = dir.file("not_a_tty");
   std::ofstream(file) << "x";
   try {
     SerialPort p(file);
@@ -80,7 +78,6 @@ TEST_CASE("Serial port: open errors name the path and the cause") {
   } catch (const TransportError& e) {
     CHECK(std::string(e.what()).find("not a serial port") != std::string::npos);
   }
-  std::remove(file.c_str());
   PtyFakeSensor fake(FakeSensorScript{});
   CHECK_THROWS_AS(SerialPort(fake.path(), SerialPort::Settings{12345, true}), iclap::InvalidArgument);
   SerialPort first(fake.path());
@@ -399,7 +396,8 @@ TEST_CASE("Pose specs") {
     f.pressures = Eigen::MatrixXd::Constant(2, 1, i);
     d.frames.push_back(f);
   }
-  const std::string file = temp_path("poses.csv");
+  const iclap::test::TempDir dir("pose_replay");
+  const std::string file = dir.file("poses.csv");
   iclap::write_dataset_csv(file, d);
   auto replay = make_pose_source("replay:" + file);
   CHECK(replay->has_orientation());
@@ -414,7 +412,7 @@ TEST_CASE("Pose specs") {
   // reader accepts, is replayed normalised instead of refused.
   iclap::Dataset four = d;
   four.frames[1].orientation = Eigen::Quaterniond(0.7071, 0.7071, 0, 0);
-  const std::string four_file = temp_path("poses4.csv");
+  const std::string four_file = dir.file("poses4.csv");
   iclap::write_dataset_csv(four_file, four);
   auto replay4 = make_pose_source("replay:" + four_file);
   replay4->next();
@@ -432,7 +430,6 @@ TEST_CASE("Pose specs") {
     ++n;
   }
   CHECK(n == 3);
-  std::remove(file.c_str());
   CHECK_THROWS_AS(DatasetFrameSource(iclap::Dataset{}), iclap::EmptyInput);
   CHECK_THROWS_AS(ReplayPoseSource({}, "none"), iclap::EmptyInput);
   CHECK_THROWS_AS(FixedPoseSource(Pose{{0, std::nan(""), 0}, {}}), iclap::InvalidArgument);
