@@ -143,7 +143,8 @@ Dataset builtin_dataset(std::uint64_t seed, int threads, std::string& origin) {
   Dataset ds = simulate_dataset(builtin_objects(), settings, seed, std::ref(progress));
   progress.finish();
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  origin = "built-in simulation (seed " + std::to_string(seed) + ", simulated in " + std::to_string(secs).substr(0, 4) + " s";
+  origin = "built-in simulation (seed " + std::to_string(seed) + ", simulated in " +
+           format_value(std::round(secs * 10) / 10) + " s";
   std::error_code ec;
   fs::create_directories(dir, ec);
   try {

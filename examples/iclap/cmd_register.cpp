@@ -206,7 +206,7 @@ int run_register(const iclap::cli::Args& args) {
       throw UsageError("--weights has " + std::to_string(q.weights.size()) + " values, the points have " +
                        std::to_string(q.model.rows()) + " coordinates");
     for (double w : q.weights)
-      if (!(w > 0)) throw UsageError("--weights: every weight must be > 0, got " + std::to_string(w));
+      if (!(w > 0)) throw UsageError("--weights: every weight must be > 0, got " + iclap::format_exact(w));
   }
   const bool is_float = q.scalar == "float";
   for (const auto* f : {&q.model, &q.test}) {

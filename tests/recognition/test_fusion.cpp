@@ -443,8 +443,11 @@ TEST_CASE("min-max normalisation refuses negative distances, as l2 does") {
     CAPTURE(to_string(kind));
     Eigen::VectorXd d = vec({0.5, -1.0, 2.0});
     CHECK(error_of([&] { normalize(d, kind); }) == std::string("distances | distances: must be non-negative for ") +
-                                                         to_string(kind) + " normalisation (got -1.000000)");
+                                                         to_string(kind) + " normalisation (got -1)");
     CHECK(d == vec({0.5, -1.0, 2.0}));  // left as it was
+    // A tiny negative distance is shown as it is, not as std::to_string's -0.000000.
+    Eigen::VectorXd tiny = vec({0.5, -1e-9});
+    CHECK(error_of([&] { normalize(tiny, kind); }).find("(got -1e-09)") != std::string::npos);
   }
   Eigen::VectorXd z = vec({0.5, -1.0, 2.0});
   normalize(z, Normalization::ZScore);  // signed by design

@@ -313,6 +313,9 @@ TEST_CASE("live session: empty state and errors") {
   CHECK_THROWS_AS(refs.word(Eigen::Vector3f(1, 0, 0)), DimensionMismatch);
   // Stop rules.
   CHECK_THROWS_AS(refs.session(LiveStopRule{1.5, 1, 0}), InvalidArgument);
+  // Every digit of a confidence just above 1, not std::to_string's "1.000000".
+  CHECK_THROWS_WITH_AS((LiveStopRule{1.000000001, 1, 0}.validate()), "confidence: must be in [0, 1], got 1.000000001",
+                       InvalidArgument);
   CHECK_THROWS_AS(refs.session(LiveStopRule{0.5, 0, 0}), InvalidArgument);
   CHECK_THROWS_AS(refs.session(LiveStopRule{0.5, 3, 2}), InvalidArgument);
   // A fusion over a classifier the recogniser lacks; an unfitted recogniser.

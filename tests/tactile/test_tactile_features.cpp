@@ -214,6 +214,16 @@ TEST_CASE("Tactile-SIFT: settings are validated and name the setting") {
   s = {};
   s.clip = 0.0;
   fails_on(s, "settings.clip");
+  // A value just outside its range is shown with every digit it needs, not
+  // as std::to_string's six decimals ("1.000000", which looks inside (0, 1]).
+  s = {};
+  s.clip = 1.000000001;
+  CHECK_THROWS_WITH_AS(DynamicTactileSift<float>{s}, "settings.clip: must be in (0, 1], got 1.000000001",
+                       InvalidArgument);
+  s = {};
+  s.window_sigma = -1e-300;
+  CHECK_THROWS_WITH_AS(DynamicTactileSift<float>{s}, "settings.window_sigma: must be finite and >= 0, got -1e-300",
+                       InvalidArgument);
 
   TactileSift<>::Settings fixed;
   fixed.sp = 4;  // the type fixes sp = 3

@@ -104,7 +104,7 @@ class Fusion {
     const std::string expr = f.to_string();
     for (std::size_t i = 0; i < f.weights_.size(); ++i) {
       const double w = f.weights_[i];
-      if (!std::isfinite(w)) throw InvalidArgument("weights", "weight " + std::to_string(w) + " is not finite in " + expr);
+      if (!std::isfinite(w)) throw InvalidArgument("weights", "weight " + format_value(w) + " is not finite in " + expr);
       if (w < 0)
         throw InvalidArgument("weights", "negative weight " + format_value(w) + " for " + f.children_[i].to_string() + " in " + expr);
     }

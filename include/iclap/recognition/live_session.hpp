@@ -128,7 +128,7 @@ struct LiveStopRule {
   /// Throws InvalidArgument naming the member and the value.
   void validate() const {
     if (!(confidence >= 0 && confidence <= 1))
-      throw InvalidArgument("confidence", "must be in [0, 1], got " + std::to_string(confidence));
+      throw InvalidArgument("confidence", "must be in [0, 1], got " + format_exact(confidence));
     if (min_touches < 1) throw InvalidArgument("min_touches", "must be >= 1, got " + std::to_string(min_touches));
     if (max_touches < 0 || (max_touches > 0 && max_touches < min_touches))
       throw InvalidArgument("max_touches", "must be 0 (no limit) or >= min_touches (" + std::to_string(min_touches) +
@@ -227,7 +227,7 @@ class LiveSession {
     if (touch.normal) {
       check_finite(*touch.normal, "normal");
       if (std::abs(touch.normal->norm() - 1.0) > 1e-6)
-        throw InvalidArgument("normal", "is not a unit vector (norm " + std::to_string(touch.normal->norm()) + ")");
+        throw InvalidArgument("normal", "is not a unit vector (norm " + format_exact(touch.normal->norm()) + ")");
     }
     if (touch.normal) {
       check_finite(touch.contact_points, "contact_points");

@@ -53,7 +53,7 @@ inline void normalize(Eigen::Ref<Eigen::VectorXd> d, Normalization kind) {
   if (d.size() == 0) return;
   if (kind != Normalization::ZScore && d.minCoeff() < 0)
     throw InvalidArgument("distances", "must be non-negative for " + std::string(to_string(kind)) +
-                                           " normalisation (got " + std::to_string(d.minCoeff()) + ")");
+                                           " normalisation (got " + format_value(d.minCoeff()) + ")");
   switch (kind) {
     case Normalization::L2: {
       // Scale first so that huge distances cannot overflow the squares.

@@ -78,7 +78,7 @@ struct TouchSet {
       for (Index i = 0; i < normals.cols(); ++i)
         if (std::abs(normals.col(i).norm() - 1.0) > 1e-6)
           throw InvalidArgument(argument + ".normals", "column " + std::to_string(i) + " is not a unit vector (norm " +
-                                                           std::to_string(normals.col(i).norm()) + ")");
+                                                           format_exact(normals.col(i).norm()) + ")");
     }
   }
 

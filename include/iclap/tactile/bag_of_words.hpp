@@ -97,12 +97,12 @@ void check_histogram(const Eigen::MatrixBase<Derived>& h, const char* argument) 
   for (Index i = 0; i < h.size(); ++i) {
     const auto v = static_cast<double>(h.derived().coeff(i));
     if (!std::isfinite(v) || v < 0.0)
-      throw InvalidArgument(argument, "bin " + std::to_string(i) + " is " + std::to_string(v) +
+      throw InvalidArgument(argument, "bin " + std::to_string(i) + " is " + format_value(v) +
                                           ", expected a finite non-negative value");
     sum += v;
   }
   if (!(std::abs(sum - 1.0) <= 1e-6))
-    throw InvalidArgument(argument, "sums to " + std::to_string(sum) + ", expected 1 (normalise it first)");
+    throw InvalidArgument(argument, "sums to " + format_exact(sum) + ", expected 1 (normalise it first)");
 }
 }  // namespace detail
 

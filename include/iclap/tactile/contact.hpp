@@ -30,7 +30,7 @@ struct ContactDetector {
   /// "min_taxels" (< 1).
   void validate() const {
     if (!std::isfinite(threshold) || threshold < 0.0)
-      throw InvalidArgument("threshold", "must be finite and >= 0, got " + std::to_string(threshold));
+      throw InvalidArgument("threshold", "must be finite and >= 0, got " + format_exact(threshold));
     if (min_taxels < 1)
       throw InvalidArgument("min_taxels", "must be at least 1, got " + std::to_string(min_taxels));
   }

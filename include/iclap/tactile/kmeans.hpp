@@ -285,7 +285,7 @@ class KMeansQuantizer {
                             "must be >= 0, got " + std::to_string(settings.max_iterations));
     if (!(settings.relative_tolerance >= 0.0) || !std::isfinite(settings.relative_tolerance))
       throw InvalidArgument("settings.relative_tolerance",
-                            "must be finite and >= 0, got " + std::to_string(settings.relative_tolerance));
+                            "must be finite and >= 0, got " + format_exact(settings.relative_tolerance));
   }
 
   /// Also refuses features the kernel's squared distances cannot hold in

@@ -44,7 +44,7 @@ class TactileImage {
       for (Index r = 0; r < pressures_.rows(); ++r) {
         const double v = pressures_(r, c);
         if (v < 0.0)
-          throw InvalidArgument(argument, "negative pressure " + std::to_string(v) + " at row " +
+          throw InvalidArgument(argument, "negative pressure " + format_value(v) + " at row " +
                                               std::to_string(r) + ", column " + std::to_string(c));
       }
     }

@@ -138,11 +138,11 @@ class TactileSift {
     if (settings_.upsample < 1 || settings_.upsample > 16)
       fail("upsample", "must be in 1..16, got " + std::to_string(settings_.upsample));
     if (!(settings_.box_overlap >= 0.0 && settings_.box_overlap < 1.0))
-      fail("box_overlap", "must be in [0, 1), got " + std::to_string(settings_.box_overlap));
+      fail("box_overlap", "must be in [0, 1), got " + format_exact(settings_.box_overlap));
     if (!(settings_.window_sigma >= 0.0) || !std::isfinite(settings_.window_sigma))
-      fail("window_sigma", "must be finite and >= 0, got " + std::to_string(settings_.window_sigma));
+      fail("window_sigma", "must be finite and >= 0, got " + format_exact(settings_.window_sigma));
     if (!(settings_.clip > 0.0 && settings_.clip <= 1.0))
-      fail("clip", "must be in (0, 1], got " + std::to_string(settings_.clip));
+      fail("clip", "must be in (0, 1], got " + format_exact(settings_.clip));
   }
 
   const Settings& settings() const noexcept { return settings_; }
