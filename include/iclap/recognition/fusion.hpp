@@ -62,12 +62,13 @@ struct WeightedTerms {
 
 /// A fusion policy: an expression over classifier distances that yields one
 /// fused distance per object (paper, Section IV): a classifier's own
-/// distances, a weighted sum of fusions (decision fusion E_+ and the hybrid
-/// E_+ forms) or a product of fusions (E_x). Nestable to any depth:
+/// distances, a weighted sum of fusions (decision fusion E_+, Eq. (9), and
+/// the hybrid E_+ forms, Eqs. (11)-(13)) or a product of fusions (E_x,
+/// Eqs. (10) and (14)). Nestable to any depth:
 ///
 ///   const Fusion icp = Fusion::classifier("icp"), bow = Fusion::classifier("bow"),
 ///                iclap = Fusion::classifier("iclap");
-///   const Fusion all = 0.2 * icp + 0.2 * bow + 0.6 * iclap;  // the paper's best
+///   const Fusion all = 0.2 * icp + 0.2 * bow + 0.6 * iclap;  // the paper's best, Eq. (18)
 ///   const Fusion prod = icp * bow * iclap;
 ///
 /// Weighted sums are checked when they become a Fusion: every weight finite
@@ -117,8 +118,9 @@ class Fusion {
     return f;
   }
 
-  /// prod_i F_i (paper: E_ICP x E_BoW, ...). Needs non-negative inputs at
-  /// evaluation time. Nested products are flattened.
+  /// prod_i F_i (paper: E_ICP x E_BoW, Eq. (10), and the hybrid products of
+  /// Eq. (14)). Needs non-negative inputs at evaluation time. Nested
+  /// products are flattened.
   static Fusion product(std::vector<Fusion> factors) {
     if (factors.empty()) throw InvalidArgument("factors", "a product needs at least one factor");
     Fusion f;

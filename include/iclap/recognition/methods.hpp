@@ -209,7 +209,8 @@ inline Method parse_method(const std::string& spec) {
 /// The paper's eleven methods (Sections IV-VI), in its order: the three
 /// single pipelines, the two decision fusions of ICP and BoW, and the six
 /// hybrid fusions with iCLAP. `+` is a weighted sum whose weights the grid
-/// chooses (the paper's w_p1, w_p2, w_w3, and w_p4 / w_w4), `*` a product.
+/// chooses (the paper's w_p1, w_p2, w_w3, and w_p4 / w_w4 of Eqs. (9) and
+/// (11)-(13)), `*` a product (Eqs. (10) and (14)).
 inline std::vector<Method> paper_methods() {
   std::vector<Method> out;
   for (const char* spec : {"bow", "icp", "iclap", "icp+bow", "icp*bow", "iclap+icp", "iclap*icp", "iclap+bow",

@@ -38,14 +38,15 @@ struct IcpWorkspace {
   std::vector<Correspondence<Scalar>> previous_pairs;
 };
 
-/// Iterative Closest (Labeled) Point in `Dim` dimensions (paper, Section III).
+/// Iterative Closest (Labeled) Point in `Dim` dimensions (paper, Section III;
+/// equation numbers count the paper's numbered equations in order).
 ///
 /// Each iteration matches every test point to its closest reference point
 /// under the current transform (through the reference's search structure,
 /// built once), rejects pairs with `rejection`, then re-estimates the motion
-/// from the kept pairs in closed form: centroids c_p, c_q, cross-covariance
-/// H = sum p'_i q'_i^T, R = V U^T from H = U S V^T with det R = +1, and
-/// t = c_q - R c_p. `Model` restricts which coordinates move (FullRigid:
+/// from the kept pairs in closed form: centroids c_p, c_q and
+/// t = c_q - R c_p (Eqs. (1)-(2)), cross-covariance H = sum p'_i q'_i^T
+/// (Eq. (3)), R = V U^T from H = U S V^T (Eqs. (4)-(6)) with det R = +1. `Model` restricts which coordinates move (FullRigid:
 /// all, the paper's iCLAP; SpatialRigid: x, y, z; Planar: rotation about z
 /// and x, y translation; Translation: x, y, z shift).
 ///

@@ -14,7 +14,8 @@ struct RegistrationResult {
   RigidTransform<Scalar, Dim> T_model_test;
   /// E = sum of squared (weighted) distances of the matched pairs under
   /// `T_model_test`, each test point matched to its closest model point
-  /// (paper, E_iCLAP / E_ICP). +infinity when no pair survived rejection.
+  /// (paper: E_iCLAP of Section III, minimised through Eqs. (1)-(2), and
+  /// E_ICP, Eq. (8)). +infinity when no pair survived rejection.
   Scalar error = 0;
   /// sqrt(E / pairs); +infinity when there are no pairs.
   Scalar rmse = 0;

@@ -107,8 +107,7 @@ void check_histogram(const Eigen::MatrixBase<Derived>& h, const char* argument) 
 }  // namespace detail
 
 /// The bag-of-words distance of the iCLAP paper (Section IV, "Tactile based
-/// object recognition", the equation for
-/// E_BoW, after Luo et al. 2015):
+/// object recognition", Eq. (7), after Luo et al. 2015):
 ///   E_BoW(h_test, h_class) = 1 - sum_i min(h_test_i, h_class_i),
 /// the histogram intersection distance: 0 for identical histograms, 1 for
 /// histograms with no word in common, in [0, 1] always (rounding is clamped).

@@ -22,7 +22,8 @@ struct FullRigid {
   static void check_dimension(Index /*dim*/) {}
 
   /// Optimal block motion for centroids cp (test), cq (model) and
-  /// cross-covariance H: R = V U^T (guarded), t = cq - R cp (paper, Sec. III).
+  /// cross-covariance H (paper, Eq. (3)): R = V U^T (guarded; Eqs. (4)-(6)),
+  /// t = cq - R cp (Eqs. (1)-(2)).
   template <typename Acc, int B>
   static BlockEstimate<Acc, B> estimate(const Point<Acc, B>& cp, const Point<Acc, B>& cq,
                                         const SquareMatrix<Acc, B>& H, double rank_tol) {

@@ -124,13 +124,13 @@ bool polar_rotation3(const SquareMatrix<Acc, 3>& H, double rank_tol, SquareMatri
   return false;
 }
 
-/// The rotation maximising tr(R H) over SO(B): with H = U S V^T (paper,
-/// Eqs. for tr(RH) <= tr(sqrt(H^T H))), R = V U^T, and the reflection guard
-/// the paper's derivation lacks: if det(V U^T) = -1 (a reflection, which
-/// happens for noisy or planar data), the column of V belonging to the
-/// smallest singular value is negated, giving the best proper rotation
-/// (Umeyama 1991). H is the cross-covariance sum_i p'_i q'_i^T of centred
-/// test (p) and model (q) points.
+/// The rotation maximising tr(R H) over SO(B): with H = U S V^T, R = V U^T
+/// (paper, Eqs. (4)-(6): tr(RH) <= tr(sqrt(H^T H)), attained there), and
+/// the reflection guard the paper's derivation lacks: if det(V U^T) = -1
+/// (a reflection, which happens for noisy or planar data), the column of V
+/// belonging to the smallest singular value is negated, giving the best
+/// proper rotation (Umeyama 1991). H is the cross-covariance
+/// sum_i p'_i q'_i^T of centred test (p) and model (q) points (Eq. (3)).
 template <typename Acc, int B>
 void proper_rotation(const SquareMatrix<Acc, B>& H, double rank_tol, SquareMatrix<Acc, B>& R, bool& degenerate) {
   using Matrix = SquareMatrix<Acc, B>;
