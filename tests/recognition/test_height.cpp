@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "iclap/core/random.hpp"
@@ -39,7 +40,7 @@ TEST_CASE("height_and_tilt: height and tilt from straight down") {
   CHECK(height_and_tilt(p, Eigen::Vector3d(0, 0, 1))(1) == doctest::Approx(kPi));  // pressing upwards
   CHECK(height_and_tilt(p, normal(0.4, 2.0))(1) == doctest::Approx(0.4).epsilon(1e-12));
   // Tiny tilts keep their precision (atan2, not acos of a rounded cosine).
-  CHECK(height_and_tilt(p, normal(1e-9, 0.3))(1) == doctest::Approx(1e-9).epsilon(1e-6));
+  CHECK(height_and_tilt(p, normal(1e-9, 0.3))(1) == doctest::Approx(1e-9).epsilon(1e-6).scale(0));
 }
 
 TEST_CASE("touch tables carry the pad normals when every contact frame has an orientation") {
@@ -221,12 +222,19 @@ TEST_CASE("contact_extents: the patch's principal standard deviations, largest f
   CHECK(far(0) == doctest::Approx(flat(0)).epsilon(1e-6));
   CHECK(far(1) == doctest::Approx(flat(1)).epsilon(1e-6));
   // Spreads whose covariance overflows (it gave NaN, read as 0) or
-  // underflows (it gave 0) keep their size.
-  for (const double s : {1e160, 1e300, 1e-160, 1e-300}) {
-    const Eigen::Vector2d e = contact_extents(grid(6, 3, pitch * s, Eigen::Vector3d(s, 0, 0), x, y));
-    CHECK(e(0) == doctest::Approx(grid_sd(6, pitch * s)).epsilon(1e-9));
-    CHECK(e(1) == doctest::Approx(grid_sd(3, pitch * s)).epsilon(1e-9));
+  // underflows (it gave 0) keep their size, relative to it (scale(0): a
+  // plain Approx takes 0 for 1e-160); and so do points whose sum overflows
+  // (at 1e308 m, 3.4e302 m apart).
+  for (const auto& spread_at : std::vector<std::pair<double, double>>{
+           {1e160, 1e160}, {1e300, 1e300}, {1e-160, 1e-160}, {1e-300, 1e-300}, {1e305, 1e308}}) {
+    const double s = spread_at.first, at = spread_at.second;
+    CAPTURE(s);
+    const Eigen::Vector2d e = contact_extents(grid(6, 3, pitch * s, Eigen::Vector3d(at, 0, 0), x, y));
+    CHECK(e(0) == doctest::Approx(grid_sd(6, pitch * s)).epsilon(1e-9).scale(0));
+    CHECK(e(1) == doctest::Approx(grid_sd(3, pitch * s)).epsilon(1e-9).scale(0));
   }
+  // Coincident points: no patch, not NaN.
+  CHECK(contact_extents(Eigen::Matrix3Xd::Constant(3, 4, 0.4)) == Eigen::Vector2d::Zero());
   Eigen::Matrix3Xd bad = grid(2, 2, pitch, Eigen::Vector3d::Zero(), x, y);
   bad(1, 2) = std::numeric_limits<double>::quiet_NaN();
   CHECK_THROWS_AS(contact_extents(bad), NonFiniteValue);
@@ -256,6 +264,15 @@ TEST_CASE("the height classifier refuses coordinates whose squared distances ove
     CHECK(std::string(e.argument()) == "objects[0].normals (the tilt times tilt_scale)");
     CHECK(std::string(e.what()).find("tilt_scale 1e+200") != std::string::npos);
   }
+  // A patch blown up as far by contact_scale is named as its length (the
+  // larger extent, so the first beyond range).
+  HeightClassifier wide;
+  wide.contact_scale = 1e200;
+  const Eigen::Matrix3Xd square = grid(3, 3, 0.01, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY());
+  const TouchSet patch = with_contacts(touches({Eigen::Vector3d::Zero()}, {normal(0, 0)}), {square});
+  CHECK_THROWS_WITH_AS(wide.fit({patch}, 0),
+                       doctest::Contains("objects[0].contact_points (the patch length times contact_scale): touch 0 gives"),
+                       InvalidArgument);
   // Within range, the largest heights still give finite distances.
   const TouchSet high = touches({Eigen::Vector3d(0, 0, 1e149)}, {normal(0, 0)});
   h.distances(high, d);
@@ -394,4 +411,20 @@ TEST_CASE("height_contact names bad settings and what it is missing") {
   contact.fit({mixed}, 0);
   CHECK(contact.embed(mixed, "m").col(0).tail<2>() == Eigen::Vector2d::Zero());
   CHECK(contact.embed(mixed, "m")(2, 1) == doctest::Approx(grid_sd(3, 0.01)).epsilon(1e-12));
+}
+
+TEST_CASE("the height classifier refuses touch sets that TouchSet::validate refuses, naming the argument") {
+  HeightClassifier height;
+  const TouchSet good = touches({Eigen::Vector3d(0, 0, 0.01), Eigen::Vector3d(0, 0, 0.02)}, {normal(0, 0), normal(0.3, 1)});
+  TouchSet longer = good;  // a normal of length 2: its tilt would still read as 0.3 rad
+  longer.normals.col(1) *= 2.0;
+  CHECK_THROWS_WITH_AS(height.fit({good, longer}, 0), "objects[1].normals: column 1 is not a unit vector (norm 2.000000)",
+                       InvalidArgument);
+  height.fit({good}, 0);
+  Eigen::VectorXd d(1);
+  CHECK_THROWS_WITH_AS(height.distances(longer, d), "test.normals: column 1 is not a unit vector (norm 2.000000)",
+                       InvalidArgument);
+  TouchSet nan = good;
+  nan.positions(0, 0) = std::numeric_limits<double>::quiet_NaN();  // x: not read by the classifier
+  CHECK_THROWS_AS(height.distances(nan, d), NonFiniteValue);
 }

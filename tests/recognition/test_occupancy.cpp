@@ -286,8 +286,8 @@ TEST_CASE("occupancy: the slab behind the pad (back_depth) contradicts a touch p
   // miss, tau^2) and, with the slab, 1 mm under the 6 mm layer above it: a
   // contradiction, gamma tau^2 more for each of the 84.
   const double tau2 = plain.truncation * plain.truncation;
-  CHECK(d0(0) == doctest::Approx(84 * tau2).epsilon(1e-5));
-  CHECK(d1(0) - d0(0) == doctest::Approx(84 * plain.conflict_weight * tau2).epsilon(1e-5));
+  CHECK(d0(0) == doctest::Approx(84 * tau2).epsilon(1e-5).scale(0));
+  CHECK(d1(0) - d0(0) == doctest::Approx(84 * plain.conflict_weight * tau2).epsilon(1e-5).scale(0));
   // Against its own box nothing changes: its slab starts 3 mm above the
   // top, beyond the free radius, and so does the test pad's.
   CHECK(d1(1) == d0(1));
@@ -547,6 +547,18 @@ TEST_CASE("occupancy: a free point is charged up to the edge of the skipped dist
     REQUIRE(gap.norm() > 0.0115);
     check_charged(back * felt.occupied, p, q);
   }
+  SUBCASE("in place: 0.69 voxels beyond the free radius, diagonally across a lattice cell") {
+    // Felt: one point 0.4 mm off the lattice on both axes across. p, 2.67
+    // mm from it, is nearest the node at (1, 1) mm, 1.98 mm from it: within
+    // the free radius. A node lies up to sqrt(2)/2 voxels across from a
+    // point, more than the half voxel that bounds it along one axis.
+    felt.occupied = Eigen::Vector3d(-0.4e-3, -0.4e-3, z);
+    c.placements.max_shift = 0;
+    c.placements.max_yaw = 0;
+    c.fit_evidence({felt});
+    const Eigen::Vector3d p(1.49e-3, 1.49e-3, z);
+    check_charged(felt.occupied, p, p);
+  }
 }
 
 TEST_CASE("occupancy: a test re-placed within the placement bounds is found, beyond them it is not") {
@@ -606,8 +618,8 @@ TEST_CASE("occupancy: a contact point where no training pad ever was costs unkno
     c.fit(training(), 0);
     c.distances(test, d);
     const double tau2 = c.truncation * c.truncation;
-    CHECK(d(0) == doctest::Approx(contacts * u * tau2).epsilon(1e-5));
-    CHECK(d(1) == doctest::Approx(contacts * u * tau2).epsilon(1e-5));
+    CHECK(d(0) == doctest::Approx(contacts * u * tau2).epsilon(1e-5).scale(tau2));
+    CHECK(d(1) == doctest::Approx(contacts * u * tau2).epsilon(1e-5).scale(tau2));
     if (u == 1.0) c.distances(known, k1);
     if (u == 0.4) c.distances(known, k4);
   }
@@ -777,4 +789,148 @@ TEST_CASE("occupancy: bad settings, missing taxels and misuse are refused, namin
   c.conflict_weight = 5;
   c.distances(t, d);
   CHECK(d == before);
+}
+
+TEST_CASE("occupancy: settings at and past their bounds, the label, and invalid touches, each named") {
+  // The placements: a negative shift or turn bound is refused, not read
+  // as an empty grid.
+  PlanarPlacements p;
+  p.max_shift = -1e-3;
+  CHECK(error_of([&] { p.validate("p"); }).find("p.max_shift: must be finite and >= 0") == 0);
+  p = PlanarPlacements{};
+  p.max_yaw = -0.1;
+  CHECK(error_of([&] { p.validate("p"); }).find("p.max_yaw: must be in [0, pi] rad") == 0);
+  // The classifier's validate() checks its placements too (fit refuses
+  // nothing validate() accepted), and so does back_layers().
+  OccupancyClassifier c;
+  c.placements.yaw_step = 0;
+  CHECK(error_of([&] { c.validate(); }).find("placements.yaw_step") == 0);
+  CHECK(error_of([&] { c.back_layers(); }).find("placements.yaw_step") == 0);
+  // A free radius equal to the truncation is allowed.
+  c = OccupancyClassifier{};
+  c.free_radius = c.truncation;
+  CHECK_NOTHROW(c.validate());
+  c.fit(training(), 0);
+  CHECK(c.objects() == 2);
+  // Its name in a Recognizer, and in its errors.
+  CHECK(c.name() == "occupancy");
+  c.label = "occupancy_far";
+  CHECK(c.name() == "occupancy_far");
+  TouchSet bare = pad_touches(kSmall, {{0.0, 0.0}});
+  bare.free_offsets.clear();
+  bare.free_points.resize(3, 0);
+  Eigen::VectorXd d(2);
+  CHECK(error_of([&] { c.distances(bare, d); }).find("the occupancy_far classifier needs") != std::string::npos);
+  // m = ceil(b / (1.5 rho)) layers for a depth of exactly m steps, also
+  // where the division rounds up: 0.03375 / (1.5 * 0.0025) is
+  // 9.000000000000002 in doubles, and takes 9 layers, not 10.
+  c.free_radius = 0.0025;
+  c.back_depth = 0.03375;
+  const std::vector<double> layers = c.back_layers();
+  REQUIRE(layers.size() == 9);
+  CHECK(layers[0] == doctest::Approx(0.00375).epsilon(1e-12));
+  CHECK(layers[8] == 0.03375);
+  // fit checks the training touches first, naming what the caller gave.
+  std::vector<TouchSet> objects = training();
+  objects[1].contact_points(2, 5) = std::numeric_limits<double>::quiet_NaN();
+  c = OccupancyClassifier{};
+  CHECK_THROWS_AS(c.fit(objects, 0), NonFiniteValue);
+  CHECK(error_of([&] { c.fit(objects, 0); }).find("objects[1].contact_points") == 0);
+  // So do distances and prepare_pool with a test's and a pool's touches.
+  c.fit(training(), 0);
+  TouchSet nan_test = pad_touches(kSmall, {{0.0, 0.0}});
+  nan_test.contact_points(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  CHECK(error_of([&] { c.distances(nan_test, d); }).find("test.contact_points") == 0);
+  CHECK(error_of([&] { c.prepare_pool(nan_test); }).find("pool.contact_points") == 0);
+}
+
+TEST_CASE("occupancy: distances keep the last fit's conflict_weight and unknown_cost") {
+  OccupancyClassifier c = one_placement(0);
+  c.unknown_cost = 0.4;
+  c.fit(training(), 0);
+  // Contradictions decide this test (the first case above), and these
+  // touches, 50 mm above the references, are charged kappa tau^2.
+  const TouchSet contradicted = pad_touches(kSmall, {{0.02, 0.0}, {-0.02, 0.0}, {0.0, 0.0}});
+  const TouchSet unknown = pad_touches(Box{0.02, 0.02, 0.08}, {{0.0, 0.0}});
+  Eigen::VectorXd a(2), b(2), a_after(2), b_after(2);
+  c.distances(contradicted, a);
+  c.distances(unknown, b);
+  REQUIRE(a(0) < a(1));
+  const double tau2 = static_cast<double>(static_cast<float>(c.truncation * c.truncation));
+  REQUIRE(b(0) == doctest::Approx(static_cast<double>(unknown.contact_points.cols()) * 0.4 * tau2).epsilon(1e-6).scale(0));
+  c.conflict_weight = 5;
+  c.unknown_cost = 1;
+  c.distances(contradicted, a_after);
+  c.distances(unknown, b_after);
+  CHECK(a_after == a);
+  CHECK(b_after == b);
+}
+
+TEST_CASE("occupancy: a contact point's cost at the edges of the formula") {
+  // Felt at the origin; a pad felt nothing 2 mm along x (the free radius);
+  // both on lattice nodes. Identity placement, kappa 0.4.
+  OccupancyEvidence felt;
+  felt.occupied = Eigen::Vector3d::Zero();
+  felt.free = Eigen::Vector3d(2e-3, 0, 0);
+  OccupancyClassifier c = one_placement(0);
+  c.unknown_cost = 0.4;
+  const double tau2 = static_cast<double>(static_cast<float>(c.truncation * c.truncation));
+  const Eigen::Vector3d far(0, 0.2, 0);  // a free point far from everything
+  Eigen::VectorXd d(1);
+  auto cost = [&](double x) {
+    c.distances(one_touch(Eigen::Vector3d(x, 0, 0), far), d);
+    return d(0);
+  };
+  for (const double gamma : {0.3, 0.0}) {
+    CAPTURE(gamma);
+    c.conflict_weight = gamma;
+    c.fit_evidence({felt});
+    // 1 mm from both kinds: D_free = D_occ is no contradiction (it needs
+    // D_free < min(D_occ, rho)).
+    CHECK(cost(1e-3) == static_cast<double>(static_cast<float>(1e-6)));
+    // 3.5 mm out: beyond the felt point's truncation, but 1.5 mm from
+    // where a pad felt nothing: a miss and a contradiction, not unknown.
+    CHECK(cost(3.5e-3) == doctest::Approx((1 + gamma) * tau2).epsilon(1e-6).scale(0));
+    // 6 mm out: no evidence of either kind within reach: kappa tau^2, with
+    // or without the contradictions.
+    CHECK(cost(6e-3) == doctest::Approx(0.4 * tau2).epsilon(1e-6).scale(0));
+  }
+}
+
+TEST_CASE("occupancy: pool_distances refuses an empty subset and a wrong output size, as distances does") {
+  OccupancyClassifier c;
+  c.fit(training(), 0);
+  const TouchSet pool = pad_touches(kLarge, {{0.0, 0.0}, {0.02, 0.01}});
+  const auto prepared = c.prepare_pool(pool);
+  Eigen::VectorXd d(2), wrong(3);
+  for (const PreparedPool* p : {prepared.get(), static_cast<const PreparedPool*>(nullptr)}) {
+    CAPTURE(p != nullptr);
+    CHECK_THROWS_AS(c.pool_distances(pool, p, {}, d), EmptyInput);
+    CHECK(error_of([&] { c.pool_distances(pool, p, {}, d); }).find("test: holds no touch") == 0);
+    CHECK_THROWS_AS(c.pool_distances(pool, p, {0, 1}, wrong), DimensionMismatch);
+    CHECK(error_of([&] { c.pool_distances(pool, p, {0, 1}, wrong); }).find("out") == 0);
+  }
+}
+
+TEST_CASE("occupancy: without a turn_centre, placements turn about the centroid of the occupied points") {
+  // Both boxes' training touches 0.2 m along x and 0.1 m along y from the
+  // origin, fitted from touches (no turn_centre).
+  const Eigen::Vector2d at(0.2, 0.1);
+  std::vector<TouchSet> objects = training();
+  for (TouchSet& o : objects) o = moved(o, at, 0);
+  OccupancyClassifier c, fixed = one_placement(0);
+  c.fit(objects, 0);
+  fixed.fit(objects, 0);
+  const TouchSet test = moved(pad_touches(kLarge, {{0.04, 0.0}, {-0.035, 0.01}, {0.0, -0.02}, {0.02, 0.02}}), at, 0);
+  Eigen::VectorXd d(2), e(2);
+  fixed.distances(test, e);
+  // Turned by -10 degrees about the large box's contact centroid: the grid's
+  // 10 degree turn about it brings the touches back exactly. (About the
+  // origin, 0.22 m away, that turn would move them by 39 mm.)
+  const Eigen::Vector2d centroid = objects[1].contact_points.topRows<2>().rowwise().mean();
+  const TouchSet turned = moved(moved(moved(test, -centroid, 0), Eigen::Vector2d::Zero(), -10 * kPi / 180), centroid, 0);
+  c.distances(turned, d);
+  CHECK(d(1) <= e(1) * (1 + 1e-6) + 1e-15);
+  fixed.distances(turned, e);
+  CHECK(e(1) > 2 * d(1));
 }
