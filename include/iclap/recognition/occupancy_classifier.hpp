@@ -414,11 +414,13 @@ class OccupancyClassifier final : public Classifier {
     }
     // A free point (or a point of the slab behind the pad) is charged only
     // where the occupied field's nearest node is within the free radius of
-    // felt surface. A placement keeps heights, and the nearest node is at
-    // most half a voxel away, so a point more than free radius + half a
-    // voxel (a whole one here, against rounding) above or below every
-    // occupied point is never charged under any placement: it is dropped
-    // once per touch, not tested under every placement. Likewise across:
+    // felt surface. The nearest node is at most half a voxel away along
+    // each axis (sqrt(3)/2 of one in all, sqrt(2)/2 across the table), and
+    // `reach` below allows a whole voxel, which covers both with room for
+    // rounding. A placement keeps heights, so a point more than `reach`
+    // above or below every occupied point is never charged under any
+    // placement: it is dropped once per touch, not tested under every
+    // placement. Likewise across:
     // a placement turns p about the centre c by at most a and shifts it by
     // at most s, so p lands at least |p - c| - s from c, and within
     // s + 2 |p - c| sin(a / 2) of where it was. A point farther than the
