@@ -14,6 +14,7 @@
 #include <sstream>
 #include <string>
 #include <typeinfo>
+#include <utility>
 #include <vector>
 
 #include "iclap/data/csv_writer.hpp"
@@ -45,6 +46,12 @@ iclap::PadPose pad_down(const Eigen::Vector3d& centre, bool turned = false) {
   p.axes.col(1) = ez.cross(ex);
   p.axes.col(2) = ez;
   return p;
+}
+
+// A plate 200 x 100 x 20 mm on the table: its top at z = 20 mm.
+iclap::MeshBvh flat_plate() {
+  return iclap::MeshBvh(iclap::transformed(iclap::make_box({0.2, 0.1, 0.02}),
+                                           Eigen::Affine3d(Eigen::Translation3d(0, 0, 0.01))));
 }
 
 Eigen::MatrixXd press(const iclap::MeshBvh& shape, const iclap::PadPose& pose, double force,
@@ -84,8 +91,7 @@ std::vector<iclap::SimObject> some_builtins() {
 
 TEST_CASE("sensor: a flat plate gives a uniform patch at the expected pressure") {
   const iclap::TactileSensorModel sensor(quiet_sensor());
-  const iclap::MeshBvh plate(iclap::transformed(iclap::make_box({0.2, 0.1, 0.02}),
-                                                Eigen::Affine3d(Eigen::Translation3d(0, 0, 0.01))));
+  const iclap::MeshBvh plate = flat_plate();
   for (double force : {1.0, 3.0, 8.0}) {
     const Eigen::MatrixXd p = press(plate, pad_down({0.003, -0.002, 0.025}), force, sensor);
     REQUIRE(p.rows() == 14);
@@ -130,8 +136,7 @@ TEST_CASE("sensor: an edge gives a line along it") {
 }
 
 TEST_CASE("sensor: no contact gives an empty frame; a point saturates") {
-  const iclap::MeshBvh plate(iclap::transformed(iclap::make_box({0.2, 0.1, 0.02}),
-                                                Eigen::Affine3d(Eigen::Translation3d(0, 0, 0.01))));
+  const iclap::MeshBvh plate = flat_plate();
   const iclap::TactileSensorModel quiet(quiet_sensor());
   iclap::PadContact c;
   quiet.probe(plate, pad_down({0, 0, 0.025}), c);
@@ -801,4 +806,504 @@ TEST_CASE("mesh objects: an invalid object file is refused naming its path") {
   const fs::path flat = tmp / "flat.obj";
   std::ofstream(flat) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n";
   CHECK(load_error(flat).find("all points lie on a plane") != std::string::npos);
+}
+
+TEST_CASE("settings: zero, negative and out-of-range values are refused naming the setting; the allowed zeros work") {
+  struct Bad {
+    const char* argument;
+    const char* reason;
+    void (*apply)(iclap::SimulationSettings&);
+  };
+  using S = iclap::SimulationSettings;
+  const Bad cases[] = {
+      {"sensor.rows/cols", "must be >= 1", [](S& s) { s.sensor.rows = 0; }},
+      {"sensor.rows/cols", "must be >= 1", [](S& s) { s.sensor.cols = 0; }},
+      {"sensor.pitch", "must be finite and positive, got 0", [](S& s) { s.sensor.pitch = 0; }},
+      {"sensor.samples_per_taxel", "must be in [1, 16]", [](S& s) { s.sensor.samples_per_taxel = 0; }},
+      {"sensor.samples_per_taxel", "must be in [1, 16]", [](S& s) { s.sensor.samples_per_taxel = 17; }},
+      // 16 rows at 3.4 mm need 54.4 mm, 8 columns 27.2 mm: more than the pad.
+      {"sensor.pad_length", "is shorter than rows * pitch", [](S& s) { s.sensor.rows = 16; }},
+      {"sensor.pad_width", "is narrower than cols * pitch", [](S& s) { s.sensor.cols = 8; }},
+      {"sensor.foam_thickness", "must be finite and positive, got 0", [](S& s) { s.sensor.foam_thickness = 0; }},
+      {"sensor.foam_modulus", "must be finite and positive, got -1", [](S& s) { s.sensor.foam_modulus = -1; }},
+      {"sensor.spread_sigma", "must be finite and >= 0, got -0.001", [](S& s) { s.sensor.spread_sigma = -1e-3; }},
+      {"sensor.full_scale_pressure", "must be finite and positive, got 0",
+       [](S& s) { s.sensor.full_scale_pressure = 0; }},
+      {"sensor.max_raw", "must be finite and positive, got 0", [](S& s) { s.sensor.max_raw = 0; }},
+      {"sensor.noise_sigma", "must be finite and >= 0, got -1", [](S& s) { s.sensor.noise_sigma = -1; }},
+      {"sensor.dead_band", "must be finite and >= 0, got -1", [](S& s) { s.sensor.dead_band = -1; }},
+      {"arm.position_resolution", "must be finite and >= 0, got -1", [](S& s) { s.arm.position_resolution = -1; }},
+      {"exploration.frame_rate", "must be finite and positive, got 0", [](S& s) { s.exploration.frame_rate = 0; }},
+      {"exploration.sweep_speed", "must be finite and positive, got 0", [](S& s) { s.exploration.sweep_speed = 0; }},
+      {"exploration.speed_jitter", "must be finite and >= 0, got -0.5", [](S& s) { s.exploration.speed_jitter = -0.5; }},
+      {"exploration.heading_jitter", "must be finite and >= 0, got -0.5",
+       [](S& s) { s.exploration.heading_jitter = -0.5; }},
+      {"exploration.approach_speed", "must be finite and positive, got 0",
+       [](S& s) { s.exploration.approach_speed = 0; }},
+      {"exploration.air_speed", "must be finite and positive, got 0", [](S& s) { s.exploration.air_speed = 0; }},
+      {"exploration.clearance", "must be finite and positive, got 0", [](S& s) { s.exploration.clearance = 0; }},
+      {"exploration.sweep_length_min", "must be finite and positive, got 0",
+       [](S& s) { s.exploration.sweep_length_min = 0; }},
+      {"exploration.force_min", "must be finite and positive, got 0", [](S& s) { s.exploration.force_min = 0; }},
+      {"exploration.force_jitter", "must be finite and >= 0, got -0.5", [](S& s) { s.exploration.force_jitter = -0.5; }},
+      {"exploration.normal_follow", "must be in (0, 1], got 0", [](S& s) { s.exploration.normal_follow = 0; }},
+      {"exploration.normal_follow", "must be in (0, 1], got 1.5", [](S& s) { s.exploration.normal_follow = 1.5; }},
+      {"exploration.follow_drop", "must be finite and positive, got 0", [](S& s) { s.exploration.follow_drop = 0; }},
+      {"exploration.table_clearance", "must be finite and >= 0, got -0.001",
+       [](S& s) { s.exploration.table_clearance = -1e-3; }},
+      {"exploration.max_frames_mean", "must be in [1, 1e+06], got 0.5",
+       [](S& s) { s.exploration.max_frames_mean = 0.5; }},
+      {"exploration.placement_shift", "must be finite and >= 0, got -0.001",
+       [](S& s) { s.exploration.placement_shift = -1e-3; }},
+      {"exploration.placement_yaw", "must be finite and >= 0, got -0.1",
+       [](S& s) { s.exploration.placement_yaw = -0.1; }},
+      {"explorations", "must be >= 1, got 0", [](S& s) { s.explorations = 0; }},
+  };
+  const iclap::SimObject object = iclap::builtin_object("wooden_cuboid_1");
+  for (const Bad& b : cases) {
+    const std::string argument = b.argument, reason = b.reason;
+    CAPTURE(argument);
+    CAPTURE(reason);
+    S s;
+    b.apply(s);
+    // By the settings, before any simulation, and by the sensor model.
+    for (int way = 0; way < 3; ++way) {
+      if (way == 2 && argument.rfind("sensor.", 0) != 0) continue;
+      try {
+        if (way == 0) s.validate();
+        else if (way == 1) (void)iclap::simulate_dataset({object}, s, 42);
+        else (void)iclap::TactileSensorModel(s.sensor);
+        FAIL_CHECK("accepted");
+      } catch (const iclap::InvalidArgument& e) {
+        CHECK(typeid(e) == typeid(iclap::InvalidArgument));
+        CHECK(e.argument() == argument);
+        CHECK(e.reason() == reason);
+      }
+    }
+  }
+  // What may be zero: no noise, no dead band, no spread, no jitter, no
+  // margin to the table, an exact arm, the object left in place; and the
+  // smallest sizes.
+  S s = exact_arm_still_object();
+  s.sensor = quiet_sensor();
+  s.sensor.spread_sigma = 0;
+  s.sensor.samples_per_taxel = 1;
+  s.exploration.speed_jitter = 0;
+  s.exploration.heading_jitter = 0;
+  s.exploration.force_jitter = 0;
+  s.exploration.table_clearance = 0;
+  s.exploration.max_frames_mean = 1;
+  s.exploration.normal_follow = 1;
+  s.explorations = 1;
+  const iclap::Dataset ds = iclap::simulate_dataset({object}, s, 42);
+  REQUIRE(ds.frames.size() == 1);
+  CHECK(ds.frames[0].pressures.maxCoeff() == 0);
+  iclap::TactileSensorSettings one;
+  one.rows = one.cols = 1;
+  CHECK_NOTHROW((void)iclap::TactileSensorModel(one));
+}
+
+TEST_CASE("sensor: the foam presses E x / (h - x): none without compression, without bound as it bottoms out") {
+  const iclap::TactileSensorModel sensor(quiet_sensor());
+  const auto& s = sensor.settings();
+  const double h = s.foam_thickness, E = s.foam_modulus;
+  CHECK(sensor.foam_pressure(-1e-3) == 0);
+  CHECK(sensor.foam_pressure(0) == 0);
+  for (double x : {0.01 * h, 0.5 * h, 0.9 * h}) CHECK(sensor.foam_pressure(x) == doctest::Approx(E * x / (h - x)));
+  CHECK(std::isinf(sensor.foam_pressure(h)));
+  CHECK(std::isinf(sensor.foam_pressure(2 * h)));
+  // Pressed onto a plate, the pad sinks in until the foam's uniform pressure
+  // carries the force: x = h p / (E + p) for p = force / pad area. Pressed
+  // harder, it sinks in further and reads more.
+  const iclap::MeshBvh plate = flat_plate();
+  iclap::PadContact c;
+  sensor.probe(plate, pad_down({0, 0, 0.025}), c);
+  const double pad_area = static_cast<double>(sensor.sample_count()) * sensor.sample_area();
+  double sunk = 0, read = 0;
+  for (double force : {1.0, 5.0, 50.0, 500.0}) {
+    CAPTURE(force);
+    const double p = force / pad_area, shift = sensor.balance(c, force);
+    const double x = c.max_depth + shift;
+    CHECK(x == doctest::Approx(h * p / (E + p)).epsilon(1e-9).scale(0));
+    CHECK(x > sunk);
+    CHECK(x < h);
+    sunk = x;
+    const double mean = sensor.render(c, shift, nullptr).mean();
+    CHECK(mean > read);
+    read = mean;
+  }
+}
+
+TEST_CASE("sensor: the contact normal is the unit, pressure-weighted mean of the normals under the pad") {
+  const iclap::TactileSensorModel sensor(quiet_sensor());
+  const iclap::MeshBvh plate = flat_plate();
+  iclap::PadContact c;
+  sensor.probe(plate, pad_down({0, 0, 0.021}), c);
+  CHECK(sensor.contact_normal(c, 0.0) == Eigen::Vector3d::Zero());  // 1 mm off: nothing touches
+  CHECK(sensor.contact_normal(c, sensor.balance(c, 3.0)).isApprox(Eigen::Vector3d(0, 0, 1), 1e-12));
+  // Two samples: one compressed by h/6 (pressure E/5) facing x, one by h/2
+  // (pressure E) facing z.
+  const double h = sensor.settings().foam_thickness;
+  const std::size_t n = static_cast<std::size_t>(sensor.sample_count());
+  iclap::PadContact two;
+  two.depth.assign(n, -std::numeric_limits<double>::infinity());
+  two.normal.assign(n, Eigen::Vector3d::Zero());
+  two.depth[0] = h / 6;
+  two.normal[0] = Eigen::Vector3d::UnitX();
+  two.depth[n - 1] = h / 2;
+  two.normal[n - 1] = Eigen::Vector3d::UnitZ();
+  two.max_depth = h / 2;
+  CHECK(sensor.contact_normal(two, 0.0).isApprox(Eigen::Vector3d(0.2, 0, 1).normalized(), 1e-12));
+}
+
+TEST_CASE("sensor: a point load spreads as the foam's Gaussian, alike along both pad axes") {
+  // A pin 0.4 mm square, narrower than the 1.13 mm between the rays, under
+  // the centre of taxel (7, 3): pad x along world x, pad y along world -y.
+  iclap::TactileSensorSettings settings = quiet_sensor();
+  const double pitch = settings.pitch;
+  const iclap::MeshBvh pin(iclap::transformed(
+      iclap::make_box({0.0004, 0.0004, 0.02}),
+      Eigen::Affine3d(Eigen::Translation3d(0.5 * pitch, -0.5 * pitch, 0.01))));
+  // Standard normal mass over [a, b] (in sigmas).
+  const auto mass = [](double a, double b) { return 0.5 * (std::erf(b / std::sqrt(2.0)) - std::erf(a / std::sqrt(2.0))); };
+  // Spread over one pitch, and none; pressed for a reading near 2000.
+  for (const auto& [sigma_in_pitches, pressure] : {std::pair{1.0, 7e6}, std::pair{0.0, 1e6}}) {
+    CAPTURE(sigma_in_pitches);
+    settings.spread_sigma = sigma_in_pitches * pitch;
+    const iclap::TactileSensorModel sensor(settings);
+    iclap::PadContact c;
+    sensor.probe(pin, pad_down({0, 0, 0.021}), c);
+    REQUIRE(std::count_if(c.depth.begin(), c.depth.end(), [&](double d) { return d > -0.005; }) == 1);
+    const double h = settings.foam_thickness, compression = h * pressure / (settings.foam_modulus + pressure);
+    REQUIRE(sensor.foam_pressure(compression) == doctest::Approx(pressure));
+    const Eigen::MatrixXd r = sensor.render(c, compression - c.max_depth, nullptr);
+    REQUIRE(r(7, 3) > 0);
+    CHECK(r.maxCoeff() == r(7, 3));
+    CHECK(r.maxCoeff() < settings.max_raw);
+    if (sigma_in_pitches == 0) {  // no spread: only that taxel feels it
+      CHECK((r.array() > 0).count() == 1);
+      continue;
+    }
+    // A taxel's share of the load along each axis is the Gaussian's mass
+    // over its width (the rays sample it at a third of the pitch: 3 %).
+    const double s = sigma_in_pitches;
+    const double next = mass(0.5 / s, 1.5 / s) / mass(-0.5 / s, 0.5 / s);
+    const double second = mass(1.5 / s, 2.5 / s) / mass(-0.5 / s, 0.5 / s);
+    const double centre = r(7, 3);
+    for (const double neighbour : {r(6, 3), r(8, 3), r(7, 2), r(7, 4)}) CHECK(neighbour / centre == doctest::Approx(next).epsilon(0.03).scale(0));
+    // (Not column 5, the pad's last: there the spread is normalised over
+    // what remains of the pad.)
+    for (const double neighbour : {r(5, 3), r(9, 3), r(7, 1)}) CHECK(neighbour / centre == doctest::Approx(second).epsilon(0.05).scale(0));
+    CHECK(r(6, 2) / centre == doctest::Approx(next * next).epsilon(0.05).scale(0));
+    CHECK(r(8, 4) / centre == doctest::Approx(next * next).epsilon(0.05).scale(0));
+  }
+}
+
+TEST_CASE("exploration: on a flat top every sweep is straight at the sweep speed and as long as drawn, then turns or lifts") {
+  // Jitter off, exact arm, the object in place: within a sweep the pad moves
+  // by sweep_speed / frame_rate per frame along one direction; a sweep ends
+  // once its drawn length (in [min, max]) is covered. A plate 10 mm thick:
+  // every start is on its top (the pad's half width does not fit on a side).
+  iclap::SimulationSettings s = exact_arm_still_object();
+  iclap::ExplorationSettings& e = s.exploration;
+  e.heading_jitter = 0;
+  e.speed_jitter = 0;
+  e.force_jitter = 0;
+  e.sweep_length_min = 0.01;
+  e.sweep_length_max = 0.02;
+  const double step = e.sweep_speed / e.frame_rate;
+  const iclap::SimObject plate = iclap::make_sim_object("plate", iclap::make_box({0.3, 0.3, 0.01}), false);
+  for (const double turn_probability : {1.0, 0.0}) {
+    CAPTURE(turn_probability);
+    e.turn_probability = turn_probability;
+    int turns = 0, touches = 0, lifts = 0;
+    double shortest = 1, longest = 0;
+    for (int x = 0; x < 8; ++x) {
+      const auto frames = iclap::simulate_exploration(plate, s, 7, x);
+      double sweep = 0;                            // covered since the touch or the last turn
+      Eigen::Vector2d last = Eigen::Vector2d::Zero();  // direction of the last sweep step
+      for (std::size_t k = 1; k < frames.size(); ++k) {
+        CAPTURE(k);
+        // A lift at the end of a sweep: straight back along the pad normal at
+        // the approach speed until the clearance is covered (two frames).
+        if (k + 1 < frames.size() && iclap::is_contact(frames[k - 1]) && !iclap::is_contact(frames[k]) &&
+            (frames[k].position - frames[k - 1].position).head<2>().norm() < 1e-12) {
+          ++lifts;
+          const double up = e.approach_speed / e.frame_rate;
+          REQUIRE(std::ceil(e.clearance / up) == 2);
+          CHECK((frames[k].position - frames[k - 1].position).isApprox(Eigen::Vector3d(0, 0, up), 1e-9));
+          CHECK((frames[k + 1].position - frames[k].position).isApprox(Eigen::Vector3d(0, 0, up), 1e-9));
+        }
+        // Across the top (the pad sinks in a little where it overhangs an edge).
+        const Eigen::Vector2d move = (frames[k].position - frames[k - 1].position).head<2>();
+        if (!iclap::is_contact(frames[k]) || !iclap::is_contact(frames[k - 1]) || move.norm() < 1e-12) {
+          last.setZero();  // not sliding: in the air, or pressed straight down
+          continue;
+        }
+        CHECK(move.norm() == doctest::Approx(step).epsilon(1e-9).scale(0));
+        const Eigen::Vector2d direction = move / move.norm();
+        if (last.isZero()) {
+          ++touches;
+          sweep = 0;
+        } else if (direction.dot(last) < 1 - 1e-9) {  // a turn: the sweep before was complete
+          ++turns;
+          CHECK(sweep > e.sweep_length_min - 1e-9);
+          CHECK(sweep < e.sweep_length_max + step + 1e-9);
+          shortest = std::min(shortest, sweep);
+          longest = std::max(longest, sweep);
+          sweep = 0;
+        }
+        last = direction;
+        sweep += step;
+        CHECK(sweep < e.sweep_length_max + step + 1e-9);
+      }
+    }
+    MESSAGE("turn probability " << turn_probability << ": " << touches << " touches, " << turns << " turns");
+    CHECK(touches >= 8);
+    if (turn_probability == 0) {
+      CHECK(turns == 0);  // every sweep ends with a lift
+      CHECK(lifts > 10);
+      CHECK(touches > 20);
+    } else {
+      CHECK(turns > 20);
+      CHECK(touches < 20);  // lifts only after running off the plate
+      // The lengths are drawn over the whole range.
+      CHECK(shortest < e.sweep_length_min + 0.2 * (e.sweep_length_max - e.sweep_length_min));
+      CHECK(longest > e.sweep_length_max - 0.2 * (e.sweep_length_max - e.sweep_length_min));
+    }
+  }
+}
+
+TEST_CASE("simulator: each exploration puts the object down shifted uniformly in the disc and turned within +-yaw") {
+  // Same streams with and without re-placement: the same motion in the
+  // object frame, so the frames differ by the placement (R, t) alone.
+  iclap::SimulationSettings still = exact_arm_still_object();
+  iclap::SimulationSettings moved = still;
+  const iclap::ExplorationSettings defaults;
+  moved.exploration.placement_shift = defaults.placement_shift;
+  moved.exploration.placement_yaw = defaults.placement_yaw;
+  const double shift = defaults.placement_shift, yaw_max = defaults.placement_yaw;
+  const auto obj = iclap::builtin_object("wooden_cuboid_3");
+  const auto placement = [](const iclap::Frame& m, const iclap::Frame& s) {
+    const Eigen::Matrix3d R = m.orientation->toRotationMatrix() * s.orientation->toRotationMatrix().transpose();
+    return std::pair<Eigen::Matrix3d, Eigen::Vector3d>{R, m.position - R * s.position};
+  };
+  // One rigid motion for every frame of an exploration: a turn about the
+  // vertical and a shift along the table.
+  for (int x = 0; x < 2; ++x) {
+    const auto a = iclap::simulate_exploration(obj, moved, 5, x), b = iclap::simulate_exploration(obj, still, 5, x);
+    REQUIRE(a.size() == b.size());
+    const auto [R, t] = placement(a[0], b[0]);
+    CHECK(R.col(2).isApprox(Eigen::Vector3d::UnitZ(), 1e-9));
+    CHECK(std::abs(t.z()) < 1e-9);
+    CHECK(t.norm() > 0);
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      CAPTURE(k);
+      CHECK(a[k].orientation->toRotationMatrix().isApprox(R * b[k].orientation->toRotationMatrix(), 1e-9));
+      CHECK((a[k].position - (R * b[k].position + t)).norm() < 1e-9);
+    }
+  }
+  // Over many (one-frame) explorations: uniform in the disc (E r^2 = R^2 / 2)
+  // and in +-yaw (mean 0, mean |yaw| = yaw / 2).
+  moved.exploration.max_frames_mean = still.exploration.max_frames_mean = 1;
+  const int n = 400;
+  double r2 = 0, yaw_sum = 0, yaw_abs = 0;
+  for (int x = 0; x < n; ++x) {
+    const auto [R, t] = placement(iclap::simulate_exploration(obj, moved, 5, x).front(),
+                                  iclap::simulate_exploration(obj, still, 5, x).front());
+    const double yaw = std::atan2(R(1, 0), R(0, 0));
+    CHECK(t.norm() <= shift + 1e-12);
+    CHECK(std::abs(yaw) <= yaw_max + 1e-12);
+    r2 += t.squaredNorm() / (shift * shift);
+    yaw_sum += yaw / yaw_max;
+    yaw_abs += std::abs(yaw) / yaw_max;
+  }
+  CHECK(r2 / n == doctest::Approx(0.5).epsilon(0.1).scale(0));
+  CHECK(std::abs(yaw_sum / n) < 0.1);
+  CHECK(yaw_abs / n == doctest::Approx(0.5).epsilon(0.1).scale(0));
+}
+
+TEST_CASE("simulator: each object name and each exploration has its own random stream") {
+  iclap::SimulationSettings s;
+  s.exploration.max_frames_mean = 20;
+  const iclap::TriangleMesh box = iclap::make_box({0.06, 0.04, 0.03});
+  const iclap::SimObject a = iclap::make_sim_object("box_a", box), b = iclap::make_sim_object("box_b", box);
+  const auto positions = [&](const iclap::SimObject& o, int exploration) {
+    std::vector<Eigen::Vector3d> p;
+    for (const auto& f : iclap::simulate_exploration(o, s, 3, exploration)) p.push_back(f.position);
+    return p;
+  };
+  CHECK(positions(a, 0) == positions(a, 0));
+  CHECK(positions(a, 0) != positions(b, 0));  // the same shape under another name
+  CHECK(positions(a, 0) != positions(a, 1));
+  CHECK(positions(b, 0) != positions(b, 1));
+  // Every draw happens whatever the settings: switching the read noise off
+  // leaves the motion as it was.
+  const auto noisy = positions(a, 0);
+  s.sensor.noise_sigma = 0;
+  CHECK(positions(a, 0) == noisy);
+}
+
+TEST_CASE("arm: reported poses scatter about the true ones by the position and orientation noise") {
+  // Arm settings do not change the random stream: the same motion, reported
+  // exactly and with the default noise and quantisation.
+  const iclap::SimulationSettings exact = exact_arm_still_object();
+  iclap::SimulationSettings noisy = exact;
+  noisy.arm = iclap::ArmSettings{};
+  const auto obj = iclap::builtin_object("wooden_cuboid_2");
+  Eigen::Vector3d squares = Eigen::Vector3d::Zero();
+  double angle_squares = 0;
+  std::size_t n = 0;
+  for (int x = 0; x < 3; ++x) {
+    const auto a = iclap::simulate_exploration(obj, noisy, 2, x), b = iclap::simulate_exploration(obj, exact, 2, x);
+    REQUIRE(a.size() == b.size());
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      CHECK(a[k].pressures == b[k].pressures);
+      squares += (a[k].position - b[k].position).cwiseAbs2();
+      angle_squares += std::pow(a[k].orientation->angularDistance(*b[k].orientation), 2);
+      ++n;
+    }
+  }
+  const double count = static_cast<double>(n);
+  for (int i = 0; i < 3; ++i) CHECK(std::sqrt(squares[i] / count) == doctest::Approx(noisy.arm.position_noise).epsilon(0.2).scale(0));
+  CHECK(std::sqrt(angle_squares / count) == doctest::Approx(noisy.arm.orientation_noise).epsilon(0.2).scale(0));
+}
+
+TEST_CASE("exploration: frame counts are uniform in mean x (1 +- spread), on both sides of the mean") {
+  iclap::SimulationSettings s = exact_arm_still_object();
+  s.exploration.max_frames_mean = 20;
+  s.exploration.frames_spread = 0.5;
+  const iclap::SimObject box = iclap::make_sim_object("box", iclap::make_box({0.06, 0.04, 0.03}));
+  int below = 0, above = 0;
+  for (int x = 0; x < 40; ++x) {
+    const std::size_t n = iclap::simulate_exploration(box, s, 1, x).size();
+    CHECK(n >= 10);
+    CHECK(n <= 30);
+    below += n < 20;
+    above += n > 20;
+  }
+  CHECK(below >= 10);
+  CHECK(above >= 10);
+  s.exploration.frames_spread = 0;
+  CHECK(iclap::simulate_exploration(box, s, 1, 0).size() == 20);
+}
+
+namespace {
+// The first frame of each of `n` one-frame explorations of `object` (exact
+// arm, object in place): the pad hovering off the start point, along its
+// normal.
+std::vector<iclap::Frame> start_frames(const iclap::SimObject& object, int n) {
+  iclap::SimulationSettings s = exact_arm_still_object();
+  s.exploration.max_frames_mean = 1;
+  std::vector<iclap::Frame> out;
+  for (int x = 0; x < n; ++x) out.push_back(iclap::simulate_exploration(object, s, 21, x).front());
+  return out;
+}
+}  // namespace
+
+TEST_CASE("exploration: starts on the top and the sides, the pad's long side level on sides lower than its length") {
+  // A box 16 mm high: the pad (51 x 24 mm) fits on a side only about level.
+  const iclap::SimulationSettings s = exact_arm_still_object();
+  const iclap::SimObject low = iclap::make_sim_object("low_box", iclap::make_box({0.1, 0.06, 0.016}), false);
+  int top = 0, side = 0, level = 0;
+  for (const iclap::Frame& f : start_frames(low, 300)) {
+    const Eigen::Matrix3d axes = f.orientation->toRotationMatrix();
+    CHECK(iclap::detail::pad_lowest_z({f.position, axes}, s.sensor) >= s.exploration.table_clearance - 1e-9);
+    if (axes.col(2).isApprox(Eigen::Vector3d(0, 0, -1), 1e-12)) ++top;
+    if (std::abs(axes(2, 2)) < 1e-12) {
+      ++side;
+      level += std::abs(axes(2, 0)) < 1e-12;
+    }
+  }
+  CHECK(top + side == 300);  // never from below
+  CHECK(side >= 10);
+  CHECK(level > side / 2);
+}
+
+TEST_CASE("exploration: starts are drawn by area, whatever the triangles") {
+  // A 100 mm square top made of four triangles around a point 10 mm from two
+  // edges: two thin ones (500 mm^2 each), two broad ones (4500 mm^2). The
+  // plate is 10 mm high: every start is on the top, spread evenly over it.
+  iclap::TriangleMesh m = iclap::make_box({0.1, 0.1, 0.01});
+  std::vector<Eigen::Vector3i> tris;
+  for (iclap::Index t = 0; t < m.triangle_count(); ++t)
+    if (m.area_normal(t).z() <= 0) tris.push_back(m.triangles.col(t));
+  auto corner = [&](double x, double y) {
+    for (iclap::Index v = 0; v < m.vertex_count(); ++v)
+      if (m.vertices.col(v).isApprox(Eigen::Vector3d(x, y, 0.005))) return static_cast<int>(v);
+    FAIL("no corner");
+    return -1;
+  };
+  const int c = static_cast<int>(m.vertex_count());
+  const int sw = corner(-0.05, -0.05), se = corner(0.05, -0.05), ne = corner(0.05, 0.05), nw = corner(-0.05, 0.05);
+  m.vertices.conservativeResize(3, c + 1);
+  m.vertices.col(c) = Eigen::Vector3d(-0.04, -0.04, 0.005);
+  for (const auto& [a, b] : {std::pair{sw, se}, std::pair{se, ne}, std::pair{ne, nw}, std::pair{nw, sw}})
+    tris.emplace_back(c, a, b);
+  m.triangles.resize(3, static_cast<iclap::Index>(tris.size()));
+  for (std::size_t t = 0; t < tris.size(); ++t) m.triangles.col(static_cast<iclap::Index>(t)) = tris[t];
+  const iclap::SimObject fan = iclap::make_sim_object("fan_top", m, false);
+  REQUIRE(fan.shape.mesh().triangle_count() == 14);
+  int quadrant[2][2] = {{0, 0}, {0, 0}};
+  for (const iclap::Frame& f : start_frames(fan, 400)) {
+    REQUIRE(f.orientation->toRotationMatrix().col(2).isApprox(Eigen::Vector3d(0, 0, -1), 1e-12));
+    ++quadrant[f.position.x() > 0][f.position.y() > 0];
+  }
+  for (const auto& row : quadrant)
+    for (const int count : row) CHECK(std::abs(count - 100) < 30);
+}
+
+namespace {
+// A block 80 x 80 x 14 mm on a slab 140 x 140 x 5 mm: tops at z = 19 and 5 mm.
+iclap::SimObject step_object() {
+  iclap::TriangleMesh m = iclap::transformed(iclap::make_box({0.14, 0.14, 0.005}),
+                                             Eigen::Affine3d(Eigen::Translation3d(0, 0, 0.0025)));
+  iclap::append_mesh(m, iclap::transformed(iclap::make_box({0.08, 0.08, 0.014}),
+                                           Eigen::Affine3d(Eigen::Translation3d(0, 0, 0.012))));
+  return iclap::make_sim_object("step", m, false);
+}
+}  // namespace
+
+TEST_CASE("exploration: a start is where the flat pad fits: hovering the clearance off it, nothing else in the way") {
+  // Next to the block the pad fits on the slab only where it does not
+  // overlap the block: probed at each start (the hover pose), the nearest
+  // surface ahead is the clearance away and nothing is behind the pad.
+  const iclap::SimObject step = step_object();
+  const iclap::SimulationSettings s = exact_arm_still_object();
+  const iclap::TactileSensorModel sensor(s.sensor);
+  std::size_t on_slab = 0, on_block = 0;
+  for (const iclap::Frame& f : start_frames(step, 300)) {
+    CAPTURE(f.position.transpose());
+    const Eigen::Matrix3d axes = f.orientation->toRotationMatrix();
+    iclap::PadContact c;
+    sensor.probe(step.shape, {f.position, axes}, c);
+    CHECK(c.blocked == 0);
+    CHECK(c.max_depth == doctest::Approx(-s.exploration.clearance).epsilon(1e-9).scale(0));
+    if (axes.col(2).isApprox(Eigen::Vector3d(0, 0, -1), 1e-12)) {
+      if (f.position.z() > 0.019) ++on_block;
+      else ++on_slab;
+    }
+  }
+  CHECK(on_slab > 20);
+  CHECK(on_block > 20);
+}
+
+TEST_CASE("exploration: the pad follows the surface down by at most follow_drop; off a higher step it lifts") {
+  // Running off the block, the slab is 14 mm down: within the rays' reach,
+  // more than follow_drop.
+  iclap::SimulationSettings s = exact_arm_still_object();
+  const iclap::SimObject step = step_object();
+  std::size_t on_block = 0, on_slab = 0;
+  for (int x = 0; x < 30; ++x) {
+    const auto frames = iclap::simulate_exploration(step, s, 4, x);
+    for (std::size_t k = 1; k < frames.size(); ++k) {
+      if (!iclap::is_contact(frames[k])) continue;
+      if (frames[k].position.z() > 0.01) ++on_block;
+      else ++on_slab;
+      if (iclap::is_contact(frames[k - 1]))
+        CHECK(frames[k - 1].position.z() - frames[k].position.z() <= s.exploration.follow_drop);
+    }
+  }
+  CHECK(on_block > 100);
+  CHECK(on_slab > 100);
 }
