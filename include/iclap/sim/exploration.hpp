@@ -56,7 +56,8 @@ struct ExplorationSettings {
   double air_speed = 100e-3;         ///< moving to the next sweep through the air, m/s
   /// At the end of a sweep the operator turns to a new random direction and
   /// goes on sliding with this probability, or else lifts the pad and moves
-  /// to a new random start point.
+  /// to a new random start point. A sweep that ran off the object always
+  /// ends in a lift.
   double turn_probability = 0.75;
   /// How the operator chooses each new start point. With 1 (default) it is
   /// drawn by area over the reachable surface: the paper's uninformed
