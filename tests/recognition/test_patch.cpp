@@ -219,3 +219,67 @@ TEST_CASE("patch classifiers recognise tests drawn from their own training data"
                   e.what());
   }
 }
+
+TEST_CASE("contact embedding: a touch without contact points is its pad centre; reference voxels are means, cut at 0") {
+  // Touch 0 pressed four taxels along x, on both sides of x = 0; touch 1
+  // none; touch 2 one.
+  TouchSet s;
+  s.positions.resize(3, 3);
+  s.positions << 0, 0.5, 0.2,  //
+      0, 0.5, 0,               //
+      0, 0.1, 0;
+  s.words.resize(3);
+  s.words << 2, 5, 7;
+  s.contact_points.resize(3, 5);
+  s.contact_points << -0.003, -0.001, 0.001, 0.003, 0.2,  //
+      0, 0, 0, 0, 0,                                      //
+      0, 0, 0, 0, 0;
+  s.contact_offsets = {0, 4, 4, 5};
+  ContactEmbedding<true> e;
+  e.reference_voxel = 0.004;
+  Cloud<double, 4> test;
+  e.embed<double, 4>(s, test);
+  REQUIRE(test.cols() == 6);
+  CHECK(test.col(4) == Eigen::Vector4d(0.5, 0.5, 0.1, 5));  // the pad centre, with the touch's word
+  // Reference: the cells [-4, 0) and [0, 4) mm of touch 0 hold two points
+  // each, their means; touch 1 is its pad centre.
+  Cloud<double, 4> ref;
+  e.embed_reference<double, 4>(s, ref);
+  REQUIRE(ref.cols() == 4);
+  const Eigen::Vector4d expected[] = {{-0.002, 0, 0, 2}, {0.002, 0, 0, 2}, {0.2, 0, 0, 7}, {0.5, 0.5, 0.1, 5}};
+  for (Index k = 0; k < 4; ++k) {
+    CAPTURE(k);
+    CHECK((ref.col(k) - expected[k]).norm() < 1e-15);
+  }
+  // A classifier's references are those voxel means, not the test points.
+  IclapPatchClassifier<double> labeled;
+  labeled.embedding.reference_voxel = 0.004;
+  labeled.fit({s}, 8);
+  CHECK(labeled.references().front().size() == 4);
+  // A contact point beyond the float range names its own touch, also after
+  // a touch without contact points.
+  PatchClassifier<float> patch;
+  patch.fit({s}, 8);
+  TouchSet far = s;
+  far.contact_points(0, 4) = 1e20;  // touch 2's only point
+  Eigen::VectorXd d(1);
+  CHECK_THROWS_WITH_AS(patch.distances(far, d), doctest::Contains("test.contact_points: touch 2: coordinate 1e+20"),
+                       InvalidArgument);
+  // Settings are refused naming them.
+  auto refused = [&](auto classifier) {
+    try {
+      classifier.fit({s}, 8);
+    } catch (const InvalidArgument& error) {
+      return error.argument();
+    }
+    return std::string("(no error)");
+  };
+  PatchClassifier<float> no_points, negative_voxel;
+  no_points.embedding.test_points_per_touch = 0;
+  negative_voxel.embedding.reference_voxel = -0.001;
+  CHECK(refused(no_points) == "test_points_per_touch");
+  CHECK(refused(negative_voxel) == "reference_voxel");
+  IclapPatchClassifier<float> unweighted;
+  unweighted.embedding.label_scale = 0;
+  CHECK(refused(unweighted) == "label_scale");
+}

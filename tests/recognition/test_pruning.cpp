@@ -456,3 +456,39 @@ TEST_CASE("a prepared pool is refused by another classifier, pool or fit") {
   CHECK(probe.made_for(7, nudged, {0, 2}));
   CHECK(argument([&] { icp.pool_distances(pool, &bare, {0, 1}, out); }) == "prepared");
 }
+
+TEST_CASE("every schedule counts registrations per object and start; finalists run to the end") {
+  const Scene sc = make_scene(8, 8);
+  IclapClassifier<float, Planar> c;
+  c.embedding.label_scale = 0.002;
+  c.yaw_starts_deg = {-20, 0, 20};
+  c.fit(sc.objects, 4);
+  const Index all = 8 * 3;  // objects x starts
+  for (std::size_t t = 0; t < sc.tests.size(); t += 4) {
+    CAPTURE(t);
+    const TouchSet& test = sc.tests[t].second;
+    const PrunedDecision full = c.decide(test, {PruningSettings::Schedule::None});
+    CHECK(full.completed == all);
+    CHECK(full.pruned + full.eliminated == 0);
+    const PrunedDecision bound = c.decide(test, {PruningSettings::Schedule::Bound});
+    CHECK(bound.object == full.object);
+    CHECK(bound.completed + bound.pruned == all);
+    CHECK(bound.completed % 3 == 0);
+    PruningSettings three;
+    three.shortlist = 3;
+    const PrunedDecision shortlisted = c.decide(test, three);
+    CHECK(shortlisted.eliminated == 5 * 3);
+    CHECK(shortlisted.completed + shortlisted.pruned == 3 * 3);
+    PruningSettings halving;
+    halving.schedule = PruningSettings::Schedule::Halving;
+    const PrunedDecision h = c.decide(test, halving);
+    CHECK(h.completed + h.pruned + h.eliminated == all);
+    // As many finalists as objects: nothing is eliminated, and every
+    // registration the bound leaves runs to its end.
+    halving.finalists = 8;
+    const PrunedDecision everyone = c.decide(test, halving);
+    CHECK(everyone.eliminated == 0);
+    CHECK(everyone.object == full.object);
+    CHECK(everyone.error == full.error);
+  }
+}

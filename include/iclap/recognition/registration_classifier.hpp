@@ -524,7 +524,7 @@ class RegistrationClassifier final : public Classifier {
           best = std::min(best, static_cast<double>(r.error));
           out.iterations += r.iterations;
         }
-        ++out.completed;
+        out.completed += static_cast<Index>(starts.size());
         consider(j, best);
       }
       return out;
