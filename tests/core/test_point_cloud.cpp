@@ -16,6 +16,9 @@
 
 #include "iclap/core/point_cloud.hpp"
 #include "iclap/registration/registration.hpp"
+#include "../support/errors.hpp"
+
+using iclap::test::argument_of;
 
 namespace {
 
@@ -236,17 +239,6 @@ TEST_CASE("a cloud of run-time dimension registers with Eigen::Dynamic") {
 }
 
 namespace {
-
-// The argument an iclap error names, or "" when f throws nothing.
-template <typename F>
-std::string argument_of(F&& f) {
-  try {
-    f();
-  } catch (const iclap::InvalidArgument& e) {
-    return e.argument();
-  }
-  return "";
-}
 
 // Queries around the model touches: the neighbours the searches must agree on.
 Eigen::Matrix4Xd queries() {

@@ -12,22 +12,12 @@
 
 #include "iclap/recognition/fusion.hpp"
 #include "iclap/recognition/registration_classifier.hpp"
+#include "../support/errors.hpp"
 
 using namespace iclap;
+using iclap::test::argument_of;
 
 namespace {
-
-/// The argument the InvalidArgument thrown by `f` names, "(no error)"
-/// without one.
-template <typename F>
-std::string argument_of(F&& f) {
-  try {
-    f();
-  } catch (const InvalidArgument& e) {
-    return e.argument();
-  }
-  return "(no error)";
-}
 
 /// One touch per column of `xyz`, with words 0, 1, 2, ... and 2-D features
 /// (i, -i).

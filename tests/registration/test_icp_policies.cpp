@@ -6,6 +6,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "../support/errors.hpp"
 #include "icp_test_util.hpp"
 
 using namespace iclap;
@@ -25,16 +26,6 @@ double brute_error(const Eigen::MatrixXd& model, const Eigen::MatrixXd& test, co
     e += best;
   }
   return e;
-}
-
-template <typename F>
-std::string argument_of(F&& f) {
-  try {
-    f();
-  } catch (const InvalidArgument& e) {
-    return e.argument();
-  }
-  return "(no exception)";
 }
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
