@@ -967,7 +967,10 @@ TEST_CASE("sensor: a point load spreads as the foam's Gaussian, alike along both
   // Standard normal mass over [a, b] (in sigmas).
   const auto mass = [](double a, double b) { return 0.5 * (std::erf(b / std::sqrt(2.0)) - std::erf(a / std::sqrt(2.0))); };
   // Spread over one pitch, and none; pressed for a reading near 2000.
-  for (const auto& [sigma_in_pitches, pressure] : {std::pair{1.0, 7e6}, std::pair{0.0, 1e6}}) {
+  for (const auto& spread_and_pressure : {std::pair{1.0, 7e6}, std::pair{0.0, 1e6}}) {
+    // Named copies, not structured bindings: CAPTURE's lambda cannot capture
+    // those in C++17 (clang refuses).
+    const double sigma_in_pitches = spread_and_pressure.first, pressure = spread_and_pressure.second;
     CAPTURE(sigma_in_pitches);
     settings.spread_sigma = sigma_in_pitches * pitch;
     const iclap::TactileSensorModel sensor(settings);
