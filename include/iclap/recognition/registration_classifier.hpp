@@ -291,9 +291,10 @@ struct PrunedDecision {
 /// A classifier whose distance is the ICP error E between the test touches
 /// and each object's reference cloud (paper: E_ICP, Eq. (8); E_iCLAP,
 /// Section III): the test is registered against every object and E = sum
-/// of squared distances of the matched pairs after convergence. `Embedding` turns touches into points
-/// (PositionEmbedding: 3-D ICP; LabeledEmbedding: 4-D iCLAP;
-/// DescriptorEmbedding: (3+D)-D iCLAP-N), `Model` is the motion allowed
+/// of squared distances of the matched pairs after convergence. `Embedding`
+/// turns touches into points (PositionEmbedding: 3-D ICP; LabeledEmbedding:
+/// 4-D iCLAP; DescriptorEmbedding: (3+D)-D iCLAP-N), `Model` is the motion
+/// allowed
 /// between a test and a reference (default Planar: the objects lie on a
 /// table and are re-placed between explorations; FullRigid is the paper's).
 ///

@@ -46,9 +46,10 @@ struct IcpWorkspace {
 /// built once), rejects pairs with `rejection`, then re-estimates the motion
 /// from the kept pairs in closed form: centroids c_p, c_q and
 /// t = c_q - R c_p (Eqs. (1)-(2)), cross-covariance H = sum p'_i q'_i^T
-/// (Eq. (3)), R = V U^T from H = U S V^T (Eqs. (4)-(6)) with det R = +1. `Model` restricts which coordinates move (FullRigid:
-/// all, the paper's iCLAP; SpatialRigid: x, y, z; Planar: rotation about z
-/// and x, y translation; Translation: x, y, z shift).
+/// (Eq. (3)), R = V U^T from H = U S V^T (Eqs. (4)-(6)) with det R = +1.
+/// `Model` restricts which coordinates move (FullRigid: all, the paper's
+/// iCLAP; SpatialRigid: x, y, z; Planar: rotation about z and x, y
+/// translation; Translation: x, y, z shift).
 ///
 /// Precision: both clouds are expressed relative to the reference centroid
 /// and sums are accumulated in double (also for float clouds), so a large
