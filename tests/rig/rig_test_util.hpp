@@ -22,12 +22,14 @@ namespace iclap::rig::test {
 
 /// A sensor's side of the wire, in memory: `incoming` is handed out as it is
 /// read (everything at once, no waiting), every write is kept; counts reads
-/// and writes. With `gone`, writes throw DeviceLost.
+/// and writes. With `gone`, writes throw DeviceLost, and so does a read once
+/// `incoming` is used up (an unplug after the bytes that reached the host).
 class MemoryStream final : public ByteStream {
  public:
   explicit MemoryStream(std::string name = "memory") : name_(std::move(name)) {}
   std::size_t read(std::uint8_t* buffer, std::size_t capacity, std::chrono::milliseconds) override {
     ++reads;
+    if (gone && at == incoming.size()) throw DeviceLost(name_, "device gone");
     const std::size_t n = std::min(capacity, incoming.size() - at);
     std::copy_n(incoming.begin() + static_cast<std::ptrdiff_t>(at), n, buffer);
     at += n;

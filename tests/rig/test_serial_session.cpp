@@ -12,6 +12,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <limits>
 #include <string>
 #include <thread>
 #include <vector>
@@ -509,4 +511,72 @@ TEST_CASE("DatasetFrameSource: last_frame() before any frame names the misuse") 
   PosedFrame pf;
   REQUIRE(src.next(pf, 0ms) == FrameSource::Status::kFrame);
   CHECK_NOTHROW((void)src.last_frame());
+}
+
+TEST_CASE("Poses: every position coordinate and the quaternion are checked; a replay names the bad pose") {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const auto message = [](const std::function<void()>& make) {
+    try {
+      make();
+    } catch (const iclap::InvalidArgument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  for (int i = 0; i < 3; ++i) {
+    CAPTURE(i);
+    for (double bad : {nan, inf, -inf}) {
+      CAPTURE(bad);
+      Pose pose;
+      pose.position[i] = bad;
+      CHECK(message([&] { FixedPoseSource source(pose); }) ==
+            "pose: position coordinate " + std::to_string(i) + " is not finite");
+      std::vector<Pose> poses(3);
+      poses[2] = pose;
+      CHECK(message([&] { ReplayPoseSource source(poses, "three"); }) ==
+            "poses[2]: position coordinate " + std::to_string(i) + " is not finite");
+    }
+  }
+  for (const Eigen::Quaterniond& q : {Eigen::Quaterniond(nan, 0, 0, 0), Eigen::Quaterniond(1, 0, nan, 0)}) {
+    const std::string m = message([&] { FixedPoseSource source(Pose{{0, 0, 0}, q}); });
+    CAPTURE(m);
+    CHECK(m.find("pose: orientation quaternion has norm") == 0);
+    CHECK(m.find("expected 1 within 1e-6") != std::string::npos);
+  }
+  // A replay's poses all have an orientation or none has.
+  const Pose plain{{0, 0, 0}, {}};
+  const Pose oriented{{0, 0, 0}, Eigen::Quaterniond::Identity()};
+  CHECK(message([&] { ReplayPoseSource source({oriented, plain}, "mixed"); }) ==
+        "poses: pose 1 differs from pose 0 in having an orientation");
+  CHECK(message([&] { ReplayPoseSource source({plain, plain, oriented}, "mixed"); }) ==
+        "poses: pose 2 differs from pose 0 in having an orientation");
+  CHECK(message([&] { ReplayPoseSource source({oriented, oriented}, "both"); }) == "accepted");
+}
+
+TEST_CASE("DatasetFrameSource: each frame carries its own time, or none") {
+  iclap::Dataset d;
+  d.rows = 1;
+  d.cols = 1;
+  for (int i = 0; i < 2; ++i) {
+    iclap::Frame fr;
+    fr.pressures = Eigen::MatrixXd::Constant(1, 1, i);
+    fr.time = 0.25 * (i + 1);
+    d.frames.push_back(fr);
+  }
+  DatasetFrameSource timed(d, "timed.csv");
+  CHECK(timed.has_time());
+  PosedFrame pf;
+  for (double t : {0.25, 0.5}) {
+    CAPTURE(t);
+    REQUIRE(timed.next(pf, 0ms) == FrameSource::Status::kFrame);
+    REQUIRE(pf.time);
+    CHECK(*pf.time == t);
+  }
+  // The same PosedFrame, from a dataset without times: the old time goes.
+  for (auto& fr : d.frames) fr.time.reset();
+  DatasetFrameSource untimed(d, "untimed.csv");
+  CHECK_FALSE(untimed.has_time());
+  REQUIRE(untimed.next(pf, 0ms) == FrameSource::Status::kFrame);
+  CHECK_FALSE(pf.time);
 }

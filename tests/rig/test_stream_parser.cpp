@@ -173,6 +173,27 @@ TEST_CASE("Parser: frames of the wrong shape, before a grid, out of range or mal
   CHECK(std::get<TactileFrame>(*m).texels(3, 3) == 4096);
 }
 
+TEST_CASE("Parser: a failed or short matrix info reply is passed on and sets no grid") {
+  WtsStreamParser p;
+  p.feed(encode_reply(Reply{wts_id::kGetMatrixInfo, 3, encode_matrix_info_payload(kWtsInfo)}));  // status 3
+  p.feed(encode_reply(Reply{wts_id::kGetMatrixInfo, 0, Bytes{6, 0, 14, 0}}));                    // 4 bytes
+  const auto got = drain(p);
+  REQUIRE(got.size() == 2);
+  CHECK(std::get<Reply>(got[0]).status == 3);
+  CHECK(std::get<Reply>(got[0]).payload == encode_matrix_info_payload(kWtsInfo));
+  CHECK(std::get<Reply>(got[1]).ok());
+  CHECK(std::get<Reply>(got[1]).payload.size() == 4);
+  CHECK_FALSE(p.grid());
+  CHECK_FALSE(p.matrix_info());
+  // The first successful, complete one sets it.
+  p.feed(matrix_info_reply());
+  REQUIRE(p.next());
+  REQUIRE(p.grid());
+  CHECK(*p.grid() == kWts);
+  CHECK(p.stats().replies == 3);
+  CHECK(p.stats().malformed == 0);
+}
+
 TEST_CASE("Parser: junk, bad CRC and oversize headers resynchronise") {
   Rng rng(3);
   WtsStreamParser::Settings s;
@@ -492,6 +513,82 @@ TEST_CASE("Framer: reset() drops the buffered bytes as junk, keeps the counters 
     CHECK(f.stats().junk_bytes == 2 * head.size());
     CHECK(balanced(f));
   }
+}
+
+TEST_CASE("Framer: an empty-payload packet ends a false header as soon as it is complete") {
+  // A false header announcing 200 bytes, then a host command without payload
+  // (8 bytes): the command comes out without waiting for 200 bytes or finish().
+  Bytes stream{0xAA, 0xAA, 0xAA, 0x01, 0xC8, 0x00};
+  const Bytes tare = encode_tare();
+  append(stream, tare);
+  for (std::size_t chunk : {stream.size(), std::size_t{1}}) {
+    CAPTURE(chunk);
+    PacketFramer f;
+    std::vector<RawPacket> got;
+    for (std::size_t at = 0; at < stream.size(); at += chunk) {
+      f.feed(stream.data() + at, std::min(chunk, stream.size() - at));
+      while (auto p = f.next()) got.push_back(std::move(*p));
+    }
+    REQUIRE(got.size() == 1);
+    CHECK(got[0].id == wts_id::kTare);
+    CHECK(got[0].payload.empty());
+    CHECK(f.buffered() == 0);
+    CHECK(f.stats().truncated == 1);
+    CHECK(f.stats().junk_bytes == 6);
+  }
+}
+
+TEST_CASE("Framer: every candidate cut by the end of the stream counts as truncated") {
+  // Two headers announcing 16 bytes each, the second inside the first; the
+  // stream ends before either is complete.
+  const Bytes stream{0xAA, 0xAA, 0xAA, 0x01, 0x10, 0x00, 1, 2, 3, 0xAA, 0xAA, 0xAA, 0x01, 0x10, 0x00, 4, 5};
+  PacketFramer f;
+  f.feed(stream.data(), stream.size());
+  CHECK_FALSE(f.next());
+  f.finish();
+  CHECK_FALSE(f.next());
+  CHECK(f.stats().truncated == 2);
+  CHECK(f.stats().junk_bytes == stream.size());
+  CHECK(f.buffered() == 0);
+}
+
+TEST_CASE("Framer: a raised payload bound judges the buffered bytes again") {
+  // Under the bound 1024 a false header H1 (1000 bytes) encloses a reply P,
+  // a false header H2 (1200) and a packet F of 1100 bytes; both H2 and F are
+  // beyond the bound then. Once P is out the bound is raised to 1205 (as the
+  // parser does for a grid from the matrix info): F now lies inside H2's
+  // extent, so H2 is cut short and F comes out at once, as it would have in
+  // a framer built with the raised bound.
+  const Bytes h1{0xAA, 0xAA, 0xAA, 0x01, 0xE8, 0x03};
+  const Bytes reply = encode_reply(Reply{wts_id::kTare, 0, {}});
+  const Bytes h2{0xAA, 0xAA, 0xAA, 0x01, 0xB0, 0x04, 0x55, 0x55, 0x55, 0x55};
+  const Bytes big = encode_loop(Bytes(1100, 0x11));
+  Bytes stream = h1;
+  append(stream, reply);
+  append(stream, h2);
+  append(stream, big);
+  PacketFramer f;
+  f.feed(stream.data(), stream.size());
+  auto p = f.next();
+  REQUIRE(p);
+  CHECK(p->id == wts_id::kTare);
+  f.set_max_payload(1205);
+  p = f.next();
+  REQUIRE(p);  // without finish()
+  CHECK(p->id == wts_id::kLoop);
+  CHECK(p->payload == Bytes(1100, 0x11));
+  CHECK(f.buffered() == 0);
+  const FramerStats& st = f.stats();
+  CHECK(st.truncated == 2);
+  CHECK(st.crc_errors == 0);
+  CHECK(st.oversize == 0);
+  CHECK(st.junk_bytes == h1.size() + h2.size());
+  PacketFramer raised(1205);
+  raised.feed(stream.data(), stream.size());
+  std::size_t packets = 0;
+  while (raised.next()) ++packets;
+  CHECK(packets == 2);
+  CHECK(raised.stats().truncated == st.truncated);
 }
 
 // --- Parser: grids larger than the payload bound ----------------------------

@@ -157,6 +157,15 @@ TEST_CASE("Frame rate to delay") {
                        "rate: 1e-09 frames/s needs a delay outside the sensor's 1..65535 ms", iclap::InvalidArgument);
 }
 
+TEST_CASE("Frame rate to delay: rounded to the nearest millisecond; a rate of 0 is named as not positive") {
+  // delay_ms = 1000 / rate (shared/spec/wts-protocol.md), rounded, not truncated.
+  CHECK(delay_ms_for_rate(6) == 167);  // 166.67
+  CHECK(delay_ms_for_rate(7) == 143);  // 142.86
+  CHECK(delay_ms_for_rate(9) == 111);  // 111.11
+  CHECK_THROWS_WITH_AS(delay_ms_for_rate(0), "rate: 0 frames/s is not a positive finite rate", iclap::InvalidArgument);
+  CHECK_THROWS_WITH_AS(delay_ms_for_rate(-5), "rate: -5 frames/s is not a positive finite rate", iclap::InvalidArgument);
+}
+
 TEST_CASE("Grid parsing") {
   CHECK(parse_grid("14x6") == Grid{14, 6});
   CHECK(parse_grid("6X14") == Grid{6, 14});
@@ -172,6 +181,17 @@ TEST_CASE("Grid parsing") {
     CHECK(std::string(e.what()).find("--grid: '14y6'") == 0);
   }
   CHECK(to_string(Grid{14, 6}) == "14x6");
+}
+
+TEST_CASE("Grid parsing: sides up to 1024; a number too long for an int is refused, not overflowed") {
+  CHECK(parse_grid("1024x1024") == Grid{1024, 1024});
+  CHECK_THROWS_WITH_AS(parse_grid("1025x6", "--grid"), "--grid: '1025x6' has a side outside 1..1024",
+                       iclap::InvalidArgument);
+  for (const std::string bad : {"99999999999x6", "14x99999999999999999999"}) {
+    CAPTURE(bad);
+    CHECK_THROWS_WITH_AS(parse_grid(bad, "--grid"), ("--grid: '" + bad + "' is not ROWSxCOLS (e.g. 14x6)").c_str(),
+                         iclap::InvalidArgument);
+  }
 }
 
 TEST_CASE("Matrix info decoding") {
@@ -192,6 +212,21 @@ TEST_CASE("Matrix info decoding") {
   Reply other = reply;
   other.id = wts_id::kLoop;
   CHECK_THROWS_AS(decode_matrix_info(other), iclap::InvalidArgument);
+}
+
+TEST_CASE("Matrix info decoding: the spec's field order, from the bytes") {
+  // res_x, res_y, cell_w, cell_h, full_scale, u16 little-endian each
+  // (shared/spec/wts-protocol.md), with cell width and height told apart.
+  const Bytes wire{6, 0, 14, 0, 0x54, 0x01, 0x2C, 0x01, 0xFF, 0x0F};  // 6, 14, 340, 300, 4095
+  const MatrixInfo info = decode_matrix_info(Reply{wts_id::kGetMatrixInfo, 0, wire});
+  CHECK(info.res_x == 6);
+  CHECK(info.res_y == 14);
+  CHECK(info.cell_width == 340);
+  CHECK(info.cell_height == 300);
+  CHECK(info.full_scale == 4095);
+  CHECK(info.cell_width_m() == doctest::Approx(0.0034));
+  CHECK(info.cell_height_m() == doctest::Approx(0.0030));
+  CHECK(encode_matrix_info_payload(info) == wire);
 }
 
 TEST_CASE("Frame and reply encoding round trip through bytes") {
@@ -385,4 +420,113 @@ TEST_CASE("WtsSensor: the destructor's stop command is best effort") {
   s.gone = false;
   { WtsSensor idle(s, grid_2x3()); }
   CHECK(s.write_calls == 2);
+}
+
+TEST_CASE("WtsSensor: settings without an attempt or a reply timeout are refused, naming the setting") {
+  test::MemoryStream s("scripted");
+  const auto refused = [&](const WtsSensor::Settings& st) {
+    try {
+      WtsSensor sensor(s, st);
+    } catch (const iclap::InvalidArgument& e) {
+      return e.argument();
+    }
+    return std::string("accepted");
+  };
+  for (int attempts : {0, -1}) {
+    CAPTURE(attempts);
+    WtsSensor::Settings st = grid_2x3();
+    st.attempts = attempts;
+    CHECK(refused(st) == "settings.attempts");
+  }
+  for (const auto timeout : {0ms, -5ms}) {
+    CAPTURE(timeout.count());
+    WtsSensor::Settings st = grid_2x3();
+    st.reply_timeout = timeout;
+    CHECK(refused(st) == "settings.reply_timeout");
+  }
+  WtsSensor::Settings least = grid_2x3();
+  least.attempts = 1;
+  least.reply_timeout = 1ms;
+  CHECK(refused(least) == "accepted");
+  CHECK(s.write_calls == 0);
+}
+
+TEST_CASE("WtsSensor: replies to other commands are ignored while a reply is awaited") {
+  test::MemoryStream s("scripted");
+  WtsSensor sensor(s, grid_2x3());
+  s.push(encode_reply(Reply{wts_id::kLoop, 0, {9}}));                // nobody waits for it
+  s.push(encode_reply(Reply{wts_id::kStopPeriodicFrames, 3, {}}));  // nor for this one
+  s.push(encode_frame(numbered_frame(1)));
+  s.push(encode_reply(Reply{wts_id::kTare, 0, {}}));
+  const Reply reply = sensor.request_ok(encode_tare());
+  CHECK(reply.id == wts_id::kTare);
+  CHECK(reply.ok());
+  CHECK(reply.payload.empty());
+  const auto f = sensor.next_frame(0ms);  // the frame that came with them is kept
+  REQUIRE(f);
+  CHECK(f->timestamp_ms == 1);
+  CHECK_FALSE(sensor.next_frame(0ms));
+}
+
+TEST_CASE("WtsSensor: start_periodic_frames discards the frames queued before it") {
+  test::MemoryStream s("scripted");
+  WtsSensor sensor(s, grid_2x3());
+  // Two frames of an earlier stream are queued while "tare" is awaited ...
+  s.push(encode_frame(numbered_frame(1)));
+  s.push(encode_frame(numbered_frame(2)));
+  s.push(encode_reply(Reply{wts_id::kTare, 0, {}}));
+  sensor.request_ok(encode_tare());
+  // ... then the new stream starts: only its frames come out.
+  s.push(encode_reply(Reply{wts_id::kStartPeriodicFrames, 0, {}}));
+  s.push(encode_frame(numbered_frame(3)));
+  sensor.start_periodic_frames(5.0);
+  std::vector<std::uint32_t> read;
+  while (const auto f = sensor.next_frame(0ms)) read.push_back(f->timestamp_ms);
+  CHECK(read == std::vector<std::uint32_t>{3});
+  CHECK(s.written.back() == encode_start_periodic_frames(200));
+}
+
+TEST_CASE("WtsSensor: a later matrix info with an unusable grid is refused, not hidden by the earlier grid") {
+  test::MemoryStream s("scripted");
+  WtsSensor sensor(s);
+  s.push(encode_reply(Reply{wts_id::kGetMatrixInfo, 0, encode_matrix_info_payload(MatrixInfo{6, 14, 340, 340, 4095})}));
+  CHECK(sensor.query_matrix_info().res_x == 6);
+  REQUIRE(sensor.grid());
+  CHECK(*sensor.grid() == Grid{14, 6});
+  // The sensor now reports 0 columns: the parser keeps 14x6, the query says so.
+  s.push(encode_reply(Reply{wts_id::kGetMatrixInfo, 0, encode_matrix_info_payload(MatrixInfo{0, 14, 340, 340, 4095})}));
+  try {
+    sensor.query_matrix_info();
+    FAIL_CHECK("res_x=0 was accepted");
+  } catch (const iclap::InvalidArgument& e) {
+    CHECK(e.argument() == "matrix info");
+    CHECK(std::string(e.what()).find("res_x=0, res_y=14") != std::string::npos);
+  }
+}
+
+TEST_CASE("WtsSensor: at a loss every intact frame comes out, then DeviceLost, with the parser finished") {
+  test::MemoryStream s("scripted");
+  WtsSensor sensor(s, grid_2x3());
+  s.push(encode_frame(numbered_frame(1)));
+  s.push(encode_frame(numbered_frame(2)));
+  const Bytes cut = encode_frame(numbered_frame(3));
+  s.push(Bytes(cut.begin(), cut.begin() + 10));  // the unplug cuts frame 3
+  s.gone = true;
+  for (std::uint32_t t : {1u, 2u}) {
+    CAPTURE(t);
+    const auto f = sensor.next_frame(0ms);
+    REQUIRE(f);
+    CHECK(f->timestamp_ms == t);
+  }
+  CHECK_THROWS_AS(sensor.next_frame(0ms), DeviceLost);  // not "nothing yet"
+  CHECK(sensor.lost());
+  CHECK_FALSE(sensor.streaming());
+  CHECK_THROWS_AS(sensor.next_frame(10ms), DeviceLost);
+  // The cut frame was dropped when the parser was finished, not left waiting.
+  const ParserStats st = sensor.stats();
+  CHECK(sensor.parser().buffered() == 0);
+  CHECK(st.truncated == 1);
+  CHECK(st.junk_bytes == 10);
+  CHECK(st.frames == 2);
+  CHECK(st.bytes_in == st.packet_bytes + st.junk_bytes);
 }
