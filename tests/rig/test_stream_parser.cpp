@@ -194,6 +194,26 @@ TEST_CASE("Parser: a failed or short matrix info reply is passed on and sets no 
   CHECK(p.stats().malformed == 0);
 }
 
+TEST_CASE("Parser: a later matrix info replaces the grid; one with an unusable grid does not") {
+  WtsStreamParser p;
+  p.feed(matrix_info_reply());
+  p.feed(matrix_info_reply(MatrixInfo{8, 16, 340, 340, 4095}));  // the sensor, queried again, reports 16x8
+  REQUIRE(drain(p).size() == 2);
+  REQUIRE(p.grid());
+  CHECK(*p.grid() == Grid{16, 8});
+  CHECK(p.matrix_info()->res_x == 8);
+  p.feed(matrix_info_reply(MatrixInfo{0, 14, 340, 340, 4095}));  // a side of 0: reported, not followed
+  REQUIRE(p.next());
+  CHECK(*p.grid() == Grid{16, 8});
+  CHECK(p.matrix_info()->res_x == 0);
+  Rng rng(5);
+  p.feed(encode_frame(test::random_frame(rng, Grid{16, 8}, 1)));
+  const auto m = p.next();
+  REQUIRE(m);
+  CHECK(std::get<TactileFrame>(*m).texels.rows() == 16);
+  CHECK(std::get<TactileFrame>(*m).texels.cols() == 8);
+}
+
 TEST_CASE("Parser: junk, bad CRC and oversize headers resynchronise") {
   Rng rng(3);
   WtsStreamParser::Settings s;

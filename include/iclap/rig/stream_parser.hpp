@@ -40,9 +40,13 @@ struct ParserStats : FramerStats {
 /// kMaxGridTaxels taxels) is refused.
 /// Valid packets are decoded: id 0x00 is a frame (timestamp_ms:u32,
 /// flags:u8, u16 taxels row-major), any other id a reply (status:u16,
-/// payload). The grid comes from the first successful "get matrix info"
-/// reply (rows = res_y, columns = res_x) unless `Settings::grid` overrides
-/// it; an override is never replaced by the sensor's answer.
+/// payload). The grid comes from the latest successful, complete "get
+/// matrix info" reply (rows = res_y, columns = res_x) whose grid is usable,
+/// so a sensor queried again after a change is followed; a reply with an
+/// unusable grid (a side of 0, too many taxels) updates `matrix_info()` and
+/// leaves the grid as it was (`WtsSensor::query_matrix_info` refuses it).
+/// `Settings::grid` overrides all of this: an override is never replaced by
+/// the sensor's answer.
 ///
 /// A frame whose taxel count differs from the grid's rows x cols is dropped
 /// and counted (`frames_wrong_shape`, `last_wrong_shape_taxels`), never
