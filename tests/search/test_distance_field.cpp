@@ -4,7 +4,10 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <limits>
+#include <string>
 
 #include "iclap/core/random.hpp"
 #include "iclap/search/distance_field.hpp"
@@ -27,6 +30,17 @@ Eigen::Matrix3Xd random_points(Rng& rng, Index n, double half) {
   for (Index c = 0; c < n; ++c)
     for (Index r = 0; r < 3; ++r) p(r, c) = rng.uniform(-half, half);
   return p;
+}
+
+/// What building a field of `pts` with `s` throws (its what()), the points
+/// named "evidence"; empty when the field is built.
+std::string refusal(const Eigen::Matrix3Xd& pts, const DistanceFieldSettings& s) {
+  try {
+    TruncatedDistanceField f(pts, s, "evidence");
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
 }
 
 }  // namespace
@@ -116,23 +130,15 @@ TEST_CASE("distance field: memory follows the points' surface, not their boundin
 
 TEST_CASE("distance field: settings and points out of range are refused, naming them") {
   const Eigen::Matrix3Xd p = Eigen::Vector3d(0, 0, 0);
-  auto message = [&](const Eigen::Matrix3Xd& pts, DistanceFieldSettings s) -> std::string {
-    try {
-      TruncatedDistanceField f(pts, s, "evidence");
-    } catch (const std::exception& e) {
-      return e.what();
-    }
-    return "";
-  };
-  CHECK(message(p, {0.0, 3e-3}).find("settings.voxel") != std::string::npos);
-  CHECK(message(p, {std::numeric_limits<double>::quiet_NaN(), 3e-3}).find("settings.voxel") != std::string::npos);
-  CHECK(message(p, {1e-3, 0.0}).find("settings.truncation") != std::string::npos);
-  CHECK(message(p, {1e-3, 0.0641}).find("at most 64 voxels") != std::string::npos);
-  CHECK(message(p, {1e-3, 0.064}).empty());
+  CHECK(refusal(p, {0.0, 3e-3}).find("settings.voxel") != std::string::npos);
+  CHECK(refusal(p, {std::numeric_limits<double>::quiet_NaN(), 3e-3}).find("settings.voxel") != std::string::npos);
+  CHECK(refusal(p, {1e-3, 0.0}).find("settings.truncation") != std::string::npos);
+  CHECK(refusal(p, {1e-3, 0.0641}).find("at most 64 voxels") != std::string::npos);
+  CHECK(refusal(p, {1e-3, 0.064}).empty());
   // A truncation whose float square is 0 (every query read 0, as if at a
   // point) or inf; the extremes that square to normal floats are kept.
-  CHECK(message(p, {1e-24, 3e-24}).find("settings.truncation: must square to a normal finite float") == 0);
-  CHECK(message(p, {1e18, 3e19}).find("settings.truncation: must square to a normal finite float") == 0);
+  CHECK(refusal(p, {1e-24, 3e-24}).find("settings.truncation: must square to a normal finite float") == 0);
+  CHECK(refusal(p, {1e18, 3e19}).find("settings.truncation: must square to a normal finite float") == 0);
   const TruncatedDistanceField tiny(p, {1e-19, 2e-19});
   CHECK(tiny.cap() > 0);
   CHECK(tiny.squared_distance(Eigen::Vector3d(1e-15, 0, 0)) == tiny.cap());
@@ -140,15 +146,61 @@ TEST_CASE("distance field: settings and points out of range are refused, naming 
   CHECK(std::isfinite(huge.cap()));
   Eigen::Matrix3Xd bad = p;
   bad(1, 0) = std::numeric_limits<double>::infinity();
-  CHECK(message(bad, {}).find("evidence") != std::string::npos);
+  CHECK(refusal(bad, {}).find("evidence") != std::string::npos);
   Eigen::Matrix3Xd far = p;
   far(2, 0) = 2e5;  // millimetres taken for metres
-  const std::string m = message(far, {});
+  const std::string m = refusal(far, {});
   CHECK(m.find("evidence") != std::string::npos);
   CHECK(m.find("beyond the field's range") != std::string::npos);
   // Two points 5 km apart would need an index of 10^13 blocks.
   Eigen::Matrix3Xd spread(3, 2);
   spread << 0, 5000, 0, 5000, 0, 5000;
-  CHECK(message(spread, {}).find("use a larger voxel") != std::string::npos);
-  CHECK(message(spread, {100.0, 200.0}).empty());
+  CHECK(refusal(spread, {}).find("use a larger voxel") != std::string::npos);
+  CHECK(refusal(spread, {100.0, 200.0}).empty());
+}
+
+TEST_CASE("distance field: an infinite voxel, a zero truncation and one squaring to a subnormal float are refused") {
+  const Eigen::Matrix3Xd p = Eigen::Vector3d(0, 0, 0);
+  const double inf = std::numeric_limits<double>::infinity();
+  CHECK(refusal(p, {inf, 3e-3}).find("settings.voxel: must be finite and > 0") == 0);
+  CHECK(refusal(p, {1e-3, 0.0}).find("settings.truncation: must be > 0 and at most 64 voxels") == 0);
+  // 1e-20 m squares to 1e-40, a subnormal float (below 1.18e-38).
+  CHECK(refusal(p, {1e-21, 1e-20}).find("settings.truncation: must square to a normal finite float") == 0);
+}
+
+TEST_CASE("distance field: a coordinate of exactly kMaxCoordinateVoxels voxels is in range, the next double is not") {
+  const DistanceFieldSettings s{1e-3, 3e-3};
+  const double limit = TruncatedDistanceField::kMaxCoordinateVoxels * s.voxel;
+  const Eigen::Matrix3Xd edge = Eigen::Vector3d(limit, -limit, 0);
+  const TruncatedDistanceField f(edge, s, "evidence");
+  CHECK(f.squared_distance(edge.col(0)) < f.cap());  // a field there, not only no error
+  Eigen::Matrix3Xd beyond = edge;
+  beyond(0, 0) = std::nextafter(limit, std::numeric_limits<double>::infinity());
+  CHECK(refusal(beyond, s).find("beyond the field's range") != std::string::npos);
+}
+
+TEST_CASE("distance field: memory_bytes counts the dense block index as well as the blocks") {
+  // Two points 0.8 m apart along each axis at 1 mm voxels: the index covers
+  // at least 100 blocks of 8 voxels per axis, 4 bytes each, whereas the
+  // blocks near the two points are a few tens of kilobytes.
+  Eigen::Matrix3Xd two(3, 2);
+  two << 0, 0.8, 0, 0.8, 0, 0.8;
+  const TruncatedDistanceField f(two, {1e-3, 3e-3});
+  CHECK(f.memory_bytes() >= std::size_t{100 * 100 * 100} * sizeof(std::int32_t));
+}
+
+TEST_CASE("distance field: queries up to the far corner of the indexed box read the cap") {
+  // A point at the origin: with 8-node blocks the index spans nodes -8 to 7
+  // on each axis, so the diagonal below crosses the last cell, whose far
+  // corner lies outside the index (with the x bound of that lookup dropped,
+  // it was read one entry past the index: a wrong value, or an
+  // AddressSanitizer report).
+  const Eigen::Matrix3Xd origin = Eigen::Vector3d(0, 0, 0);
+  const TruncatedDistanceField f(origin, {1e-3, 3e-3});
+  for (int t = 14; t <= 48; ++t) {
+    const Eigen::Vector3d q = Eigen::Vector3d::Constant(t * 0.25e-3);  // 3.5 to 12 mm, beyond the truncation
+    CAPTURE(t);
+    CHECK(f.squared_distance(q) == f.cap());
+    CHECK(f.node_squared_distance(q) == f.cap());
+  }
 }

@@ -349,3 +349,14 @@ TEST_CASE("a hint whose squared distance overflows is no neighbour, as without t
     CHECK(got.index == -1);
   }
 }
+
+TEST_CASE("adaptive search: a cloud of exactly brute_force_max_coordinates coordinates is scanned by brute force") {
+  // "Largest cloud, in coordinates (points x dimension), searched by brute
+  // force": the limit itself still is, one point more is not.
+  CHECK(!AdaptiveSearch<float>(random_cloud<float, Eigen::Dynamic>(4, 512, 41)).uses_tree());  // 2048, the default
+  CHECK(AdaptiveSearch<float>(random_cloud<float, Eigen::Dynamic>(4, 513, 41)).uses_tree());
+  AdaptiveSearch<double, 3>::Settings s;
+  s.brute_force_max_coordinates = 30;
+  CHECK(!AdaptiveSearch<double, 3>(random_cloud<double, 3>(3, 10, 42), s).uses_tree());
+  CHECK(AdaptiveSearch<double, 3>(random_cloud<double, 3>(3, 11, 42), s).uses_tree());
+}
