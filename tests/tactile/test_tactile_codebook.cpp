@@ -14,9 +14,12 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "iclap/search/kdtree.hpp"
 #include "iclap/tactile/tactile.hpp"
 #include "../support/enum_names.hpp"
+#include "../support/errors.hpp"
 #include "synthetic_contacts.hpp"
 
 using namespace iclap;
@@ -841,4 +844,112 @@ TEST_CASE("assign_words refuses a quantizer without words before asking it") {
                        "quantizer: has no words (is it fitted?)", InvalidArgument);
   CHECK_THROWS_WITH_AS(assign_words(KMeansQuantizer<double>(), Eigen::MatrixXd::Zero(3, 0)),
                        "quantizer: has no words (is it fitted?)", InvalidArgument);
+}
+
+TEST_CASE("k-means: relative_tolerance must be finite and >= 0; from_centres makes settings.k the number of centres") {
+  Cloud<double, 1> x(1, 4);
+  x << 0.0, 1.0, 2.0, 3.0;
+  for (const double tolerance : {-1e-9, std::numeric_limits<double>::infinity(), 0.0}) {
+    CAPTURE(tolerance);
+    KMeansQuantizer<double, 1> q;
+    q.settings.k = 2;
+    q.settings.relative_tolerance = tolerance;
+    CHECK(test::argument_of([&] { q.fit(x); }) == (tolerance == 0.0 ? "(no error)" : "settings.relative_tolerance"));
+  }
+  const auto q = KMeansQuantizer<double, 1>::from_centres(x.leftCols(3));
+  CHECK(q.settings.k == 3);
+}
+
+TEST_CASE("word ordering: the nearest-neighbour chain breaks ties by the smaller old id") {
+  // Start: ids 0 and 2 are equally far from the mean; the chain starts at 0.
+  Cloud<double, Eigen::Dynamic> line(1, 3);
+  line << -1.0, 0.0, 1.0;
+  CHECK(word_order(line, WordOrdering::NearestNeighbourChain) == std::vector<Index>{0, 1, 2});
+  line << 1.0, 0.0, -1.0;
+  CHECK(word_order(line, WordOrdering::NearestNeighbourChain) == std::vector<Index>{0, 1, 2});
+  // Step: from the far word 3 to word 2 at the origin, then ids 0 and 1 are
+  // equally near; 0 comes first.
+  Cloud<double, Eigen::Dynamic> fork(2, 4);
+  fork << 1.0, -1.0, 0.0, 0.0,  //
+      0.0, 0.0, 0.0, 10.0;
+  CHECK(word_order(fork, WordOrdering::NearestNeighbourChain) == std::vector<Index>{3, 2, 0, 1});
+  fork.row(0) *= -1.0;
+  CHECK(word_order(fork, WordOrdering::NearestNeighbourChain) == std::vector<Index>{3, 2, 0, 1});
+}
+
+TEST_CASE("word ordering: the principal axis points to the largest projection; mirror pairs are ordered by old id") {
+  // Words on a line through 3-D space at positions t (a unique extreme, so
+  // the axis' sign is fixed by it), in every numbering: the order is by
+  // projection on the axis oriented towards that extreme.
+  const Eigen::Vector3d direction = Eigen::Vector3d(1.0, -2.0, 0.5).normalized();
+  for (const std::vector<double>& t : {std::vector<double>{0.0, 1.0, 5.0}, std::vector<double>{0.0, 4.0, 5.0}}) {
+    std::vector<Index> perm{0, 1, 2};
+    do {
+      Cloud<double, 3> c(3, 3);
+      std::vector<double> position(3);
+      for (std::size_t j = 0; j < 3; ++j) {
+        position[j] = t[static_cast<std::size_t>(perm[j])];
+        c.col(static_cast<Index>(j)) = position[j] * direction;
+      }
+      const double mean = (position[0] + position[1] + position[2]) / 3.0;
+      std::size_t extreme = 0;
+      for (std::size_t j = 1; j < 3; ++j)
+        if (std::abs(position[j] - mean) > std::abs(position[extreme] - mean)) extreme = j;
+      const double sign = position[extreme] > mean ? 1.0 : -1.0;
+      std::vector<Index> expected{0, 1, 2};
+      std::sort(expected.begin(), expected.end(), [&](Index a, Index b) {
+        return sign * position[static_cast<std::size_t>(a)] < sign * position[static_cast<std::size_t>(b)];
+      });
+      CAPTURE(position[0]);
+      CAPTURE(position[1]);
+      CAPTURE(position[2]);
+      CHECK(word_order(c, WordOrdering::PrincipalAxis) == expected);
+    } while (std::next_permutation(perm.begin(), perm.end()));
+  }
+  // Pairs mirrored across the axis, rotated by several angles: each pair is
+  // a tie, ordered by old id, whichever of the two rounding projects higher.
+  for (const double angle : {0.3, 1.1, 2.0, 2.9, 4.4, 5.5}) {
+    const Eigen::Matrix2d rotation = Eigen::Rotation2Dd(angle).toRotationMatrix();
+    Cloud<double, 2> c(2, 5);
+    c << -1.0, 0.0, 3.0, 0.0, -1.0,  //
+        -0.4, 0.3, 0.0, -0.3, 0.4;
+    c = rotation * c;
+    CAPTURE(angle);
+    CHECK(word_order(c, WordOrdering::PrincipalAxis) == std::vector<Index>{0, 4, 1, 3, 2});
+  }
+}
+
+namespace {
+/// A broken quantizer: returns a negative id.
+struct NegativeId {
+  template <typename F>
+  void fit(const F&) {}
+  template <typename F>
+  Index assign(const F&) const { return -1; }
+  Index size() const { return 2; }
+};
+}  // namespace
+
+TEST_CASE("assign_words catches a quantizer that returns a negative id") {
+  CHECK_THROWS_WITH_AS(assign_words(NegativeId(), Eigen::MatrixXd::Zero(3, 4)),
+                       "quantizer: assigned word -1 to features column 0, outside [0, 2)", InvalidArgument);
+}
+
+TEST_CASE("k-means: two words re-seeded in one step; a cluster that gave a feature away keeps its last one") {
+  // a, b nearest the first initial centre, c, d the second; the other two
+  // words get nothing. b (farthest, 4 from its centre) re-seeds word 2; its
+  // cluster then holds only a, so word 3 is re-seeded from the other
+  // cluster, with d (0.1 from its centre), although a is farther (1).
+  Cloud<double, 2> x(2, 4);
+  x << 1.0, 1.0, 100.0, 100.0,  //
+      1.0, 6.0, 0.0, 0.1;
+  Cloud<double, 2> initial(2, 4);
+  initial << 1.0, 100.0, 500.0, 600.0,  //
+      2.0, 0.0, 500.0, 600.0;
+  KMeansQuantizer<double, 2> q;
+  q.settings.k = 4;
+  const auto r = q.fit_from(x, initial);
+  CHECK(r.reseeded == 2);
+  CHECK(r.labels == (WordIds(4) << 0, 2, 1, 3).finished());
+  check_word_per_feature(q, r, x, 4);
 }

@@ -12,6 +12,7 @@
 
 #include "iclap/tactile/tactile.hpp"
 #include "../support/enum_names.hpp"
+#include "../support/errors.hpp"
 #include "synthetic_contacts.hpp"
 
 using namespace iclap;
@@ -55,6 +56,14 @@ Index sift_index(int sp, int dn, int cell_row, int cell_col, int bin) {
 }
 
 int wrap(int b, int dn) { return ((b % dn) + dn) % dn; }
+
+/// A blank 14 x 6 pad pressed at one taxel: its only gradients are
+/// value / 2 at the four taxels beside it (central differences).
+Eigen::MatrixXd single_taxel(Index row, Index col, double value) {
+  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(14, 6);
+  p(row, col) = value;
+  return p;
+}
 
 }  // namespace
 
@@ -670,4 +679,180 @@ TEST_CASE("extract_features: one column per image, in order, with typed errors")
   }
   // Derived errors of a descriptor pass through with their type and text.
   CHECK_THROWS_WITH_AS(extract_features(RefusesEightRows(), mixed), "image: has eight rows", EmptyInput);
+}
+
+// ---------------------------------------------------------------------------
+TEST_CASE("Tactile-SIFT: each setting is accepted at the ends of its documented range and refused past them") {
+  using Settings = DynamicTactileSift<float>::Settings;
+  const auto refusal = [](const Settings& s) { return test::argument_of([&] { (void)DynamicTactileSift<float>(s); }); };
+  Settings s;
+  s.upsample = 16;
+  CHECK(refusal(s) == "(no error)");
+  s.upsample = 17;
+  CHECK(refusal(s) == "settings.upsample");
+  s = {};
+  s.box_overlap = 0.0;
+  CHECK(refusal(s) == "(no error)");
+  s.box_overlap = -0.01;
+  CHECK(refusal(s) == "settings.box_overlap");
+  s = {};
+  s.clip = 1.0;
+  CHECK(refusal(s) == "(no error)");
+  s = {};
+  s.window_sigma = std::numeric_limits<double>::infinity();
+  CHECK(refusal(s) == "settings.window_sigma");
+  // A type that fixes dn = 8 refuses another dn, as it refuses another sp.
+  TactileSift<>::Settings fixed;
+  fixed.dn = 4;
+  CHECK(test::argument_of([&] { (void)TactileSift<>(fixed); }) == "settings.dn");
+}
+
+TEST_CASE("Tactile-SIFT: without soft orientation each gradient goes wholly to its nearest bin, 2 pi to bin 0") {
+  // Ramps rising at 44 and -10 degrees. Every gradient, also where a
+  // replicated border halves one component (62.6 or 25.8 degrees; -19.4 or
+  // -5), is nearest bin 1 (45 degrees), resp. bin 0 (wrapped from 2 pi).
+  struct Ramp {
+    double degrees;
+    int bin;
+  };
+  TactileSift<double>::Settings hard;
+  hard.soft_orientation = false;
+  const TactileSift<double> sift(hard);
+  for (const Ramp& ramp : {Ramp{44.0, 1}, Ramp{-10.0, 0}}) {
+    const double angle = ramp.degrees * kPi / 180.0;
+    Eigen::MatrixXd p(14, 6);
+    for (Index r = 0; r < 14; ++r)
+      for (Index c = 0; c < 6; ++c)
+        p(r, c) = 2000.0 + 100.0 * (std::cos(angle) * static_cast<double>(c) + std::sin(angle) * static_cast<double>(r));
+    const auto f = sift.compute(TactileImage(p));
+    CAPTURE(ramp.degrees);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        for (int b = 0; b < 8; ++b) CHECK((f[sift_index(3, 8, i, j, b)] > 0.0) == (b == ramp.bin));
+  }
+}
+
+TEST_CASE("Tactile-SIFT: box binning with overlap 0.5 gives a box 1.5 cells, 3 taxels, including its border taxels") {
+  // Pressure rising down column 2 only: the gradients there point along +y
+  // (bin 2); columns 1 and 3 have only +-x gradients. On 6 columns with
+  // sp = 3 a cell is 2 taxels wide; column 2's centre (2.5) is 0.75 cell
+  // widths from cell 0's centre (1), exactly on the border of its box
+  // with overlap 0.5 and outside it with overlap 0.
+  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(14, 6);
+  for (Index r = 0; r < 14; ++r) p(r, 2) = 100.0 * static_cast<double>(r + 1);
+  const auto bin2_in_column = [](const Eigen::VectorXd& f, int j) {
+    double sum = 0.0;
+    for (int i = 0; i < 3; ++i) sum += f[sift_index(3, 8, i, j, 2)];
+    return sum;
+  };
+  TactileSift<double>::Settings box;
+  box.spatial = SiftSpatialBinning::Box;
+  const Eigen::VectorXd half = TactileSift<double>(box).compute(TactileImage(p));
+  CHECK(bin2_in_column(half, 0) > 0.0);
+  CHECK(bin2_in_column(half, 1) > 0.0);
+  CHECK(bin2_in_column(half, 2) == 0.0);
+  box.box_overlap = 0.0;  // boxes 1 cell wide: column 2 is cell 1's only
+  const Eigen::VectorXd none = TactileSift<double>(box).compute(TactileImage(p));
+  CHECK(bin2_in_column(none, 0) == 0.0);
+  CHECK(bin2_in_column(none, 1) > 0.0);
+  CHECK(bin2_in_column(none, 2) == 0.0);
+}
+
+TEST_CASE("Tactile-SIFT: raw histograms add up the central-difference gradient magnitudes, times the window") {
+  // Soft spatial and orientation weights of a gradient add up to 1, so the
+  // raw histograms sum to the sum of the gradient magnitudes.
+  TactileSift<double>::Settings raw;
+  raw.normalization = SiftNormalization::None;
+  // Ramp of 100 per column: 100 inside, 50 at the two replicated borders.
+  Eigen::MatrixXd ramp(14, 6);
+  for (Index r = 0; r < 14; ++r)
+    for (Index c = 0; c < 6; ++c) ramp(r, c) = 50.0 + 100.0 * static_cast<double>(c);
+  CHECK(TactileSift<double>(raw).compute(TactileImage(ramp)).sum() == doctest::Approx(14.0 * (4 * 100.0 + 2 * 50.0)));
+  // One pressed taxel at (3, 1): four gradients of 500 beside it, each
+  // weighted by the window, a Gaussian per axis centred on the pad with
+  // sigma = window_sigma times the pad's extent on that axis (6 and 14).
+  raw.window_sigma = 0.3;
+  const auto weight = [](double centre_offset, double sigma) { return std::exp(-0.5 * std::pow(centre_offset / sigma, 2)); };
+  const auto window = [&](Index row, Index col) {
+    return weight(static_cast<double>(col) + 0.5 - 3.0, 0.3 * 6.0) * weight(static_cast<double>(row) + 0.5 - 7.0, 0.3 * 14.0);
+  };
+  const double expected = 500.0 * (window(3, 0) + window(3, 2) + window(2, 1) + window(4, 1));
+  CHECK(TactileSift<double>(raw).compute(TactileImage(single_taxel(3, 1, 1000.0))).sum() == doctest::Approx(expected));
+}
+
+TEST_CASE("Tactile-SIFT: L2Clip clips at settings.clip; clip = 1 is plain L2") {
+  const TactileImage image(single_taxel(5, 2, 3000.0));
+  TactileSift<double>::Settings l2;
+  l2.normalization = SiftNormalization::L2;
+  const Eigen::VectorXd v = TactileSift<double>(l2).compute(image);
+  REQUIRE(v.maxCoeff() > 0.35);  // so every clip below changes it
+  for (const double clip : {0.1, 0.35, 1.0}) {
+    CAPTURE(clip);
+    TactileSift<double>::Settings clipped;
+    clipped.clip = clip;
+    Eigen::VectorXd expected = v.cwiseMin(clip);
+    expected /= expected.norm();
+    CHECK((TactileSift<double>(clipped).compute(image) - expected).cwiseAbs().maxCoeff() < 1e-12);
+  }
+}
+
+TEST_CASE("moments: a contact along one row has Hu invariants worked out by hand") {
+  // Taxels 2, 0, 1 at x = -1, 0, 1; scaled to a peak of 1: m00 = 1.5,
+  // centroid -1/3, mu20 = 4/3, mu30 = 8/9, nothing along y. With
+  // eta20 = mu20 / m00^2 and eta30 = mu30 / m00^2.5, Hu's invariants reduce
+  // to eta20, eta20^2, eta30^2, eta30^2, eta30^4, eta20 eta30^2 and 0.
+  Eigen::MatrixXd p(1, 3);
+  p << 2.0, 0.0, 1.0;
+  const ImageMoments m = compute_moments(TactileImage(p));
+  const double eta20 = (4.0 / 3.0) / std::pow(1.5, 2.0);
+  const double eta30 = (8.0 / 9.0) / std::pow(1.5, 2.5);
+  const double expected[7] = {eta20, eta20 * eta20, eta30 * eta30, eta30 * eta30, std::pow(eta30, 4), eta20 * eta30 * eta30, 0.0};
+  for (std::size_t i = 0; i < 7; ++i) {
+    CAPTURE(i);
+    CHECK(m.hu[i] == doctest::Approx(expected[i]).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("moments: the descriptor's second-moment entries and the first two Hu invariants from the moments") {
+  // A diagonal line: mu20 = mu11 = mu02, anisotropy (0, 1) (a line, at 45
+  // degrees), the moments divided by the area of the 6 x 6 grid.
+  Eigen::MatrixXd diagonal = Eigen::MatrixXd::Zero(6, 6);
+  for (Index i = 0; i < 6; ++i) diagonal(i, i) = 500.0;
+  const ImageMoments d = compute_moments(TactileImage(diagonal));
+  const auto f = MomentsDescriptor<double>().compute(TactileImage(diagonal));
+  CHECK(f[3] == doctest::Approx(d.mu20 / 36.0));
+  CHECK(f[4] == doctest::Approx(d.mu11 / 36.0));
+  CHECK(f[5] == doctest::Approx(d.mu02 / 36.0));
+  CHECK(f[6] == doctest::Approx(0.0));
+  CHECK(f[7] == doctest::Approx(1.0));
+  // hu[0] and hu[1] of any contact from its moments (eta_pq = mu_pq / m00^2
+  // for the image scaled to a peak of 1, whose m00 is total / peak).
+  Rng rng(10);
+  for (ContactShape shape : test::kAllShapes) {
+    const Eigen::MatrixXd p = test::synthetic_contact(shape, rng);
+    const ImageMoments m = compute_moments(TactileImage(p));
+    const double m00 = m.total / p.maxCoeff();
+    CHECK(m.hu[0] == doctest::Approx((m.mu20 + m.mu02) / m00).epsilon(1e-12));
+    CHECK(m.hu[1] == doctest::Approx((std::pow(m.mu20 - m.mu02, 2) + 4.0 * m.mu11 * m.mu11) / (m00 * m00)).epsilon(1e-12));
+  }
+}
+
+namespace {
+struct EmptyFeature {
+  Eigen::VectorXf compute(const TactileImage&) const { return {}; }
+};
+}  // namespace
+
+TEST_CASE("bad input names the argument: pressures, threshold, a fixed raw-pressures grid, an empty feature") {
+  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(14, 6);
+  p(2, 4) = -0.5;
+  CHECK(test::argument_of([&] { TactileImage bad(p, "frames[3].pressures"); }) == "frames[3].pressures");
+  p(2, 4) = 40.0;
+  const TactileImage image(p);
+  CHECK(test::argument_of([&] { (void)is_contact(image, std::numeric_limits<double>::infinity()); }) == "threshold");
+  const RawPressures<float, 14, 6> wts;
+  CHECK(test::argument_of([&] { (void)wts.compute(TactileImage(Eigen::MatrixXd::Zero(14, 5))); }) == "image.cols");
+  CHECK(test::argument_of([&] { (void)wts.compute(TactileImage(Eigen::MatrixXd::Zero(13, 6))); }) == "image.rows");
+  CHECK_THROWS_WITH_AS(extract_features(EmptyFeature(), std::vector<TactileImage>{image}),
+                       "features: descriptor returned an empty feature for images[0]", EmptyInput);
 }
