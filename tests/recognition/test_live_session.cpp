@@ -10,12 +10,14 @@
 #include <memory>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "iclap/core/random.hpp"
 #include "iclap/recognition/live_session.hpp"
 #include "iclap/recognition/recognition.hpp"
 #include "../support/enum_names.hpp"
+#include "../support/errors.hpp"
 #include "synthetic_objects.hpp"
 
 using namespace iclap;
@@ -508,4 +510,188 @@ TEST_CASE("live evaluation: replays held-out explorations in time order, determi
   CHECK_THROWS_WITH_AS(evaluate_live_stopping(two, test::paper_classifiers, codebook(), method, s),
                        doctest::Contains("'bar_hooked' has 2"), InvalidArgument);
   CHECK(evaluate_live_stopping(two, test::paper_classifiers, codebook(), parse_method("0.5*iclap+0.5*icp"), s).folds == 2);
+}
+
+TEST_CASE("live session: bad stop rules, vocabularies, words and points are refused under their own names") {
+  // A negative limit is not "no limit"; a limit equal to min_touches is allowed.
+  CHECK_THROWS_WITH_AS((LiveStopRule{0.5, 1, -1}.validate()),
+                       "max_touches: must be 0 (no limit) or >= min_touches (1), got -1", InvalidArgument);
+  CHECK_NOTHROW((LiveStopRule{0.5, 3, 3}.validate()));
+
+  const TouchTable t = oriented_table(6);
+  std::vector<Index> held, train;
+  split(t, 11, held, train);
+  // Only bow is fused: the pad orientation is optional for it, so the
+  // session's own checks are all that refuse a mixed or broken touch.
+  const LiveReferences<> refs(t, train, oriented_classifiers, codebook(), Fusion::classifier("bow"));
+  CHECK_THROWS_WITH_AS(LiveSession(refs.recognizer(), refs.fusion(), LiveStopRule{}, -1),
+                       "vocabulary: must be >= 0, got -1", InvalidArgument);
+  LiveSession s = refs.session();
+  const Index i = held.front();
+  LiveTouch bare = live_touch_of(t.touches, i, 0);
+  bare.normal.reset();
+  LiveTouch negative_word = bare;
+  negative_word.word = -1;
+  CHECK_THROWS_WITH_AS(s.add_touch(negative_word), "word: -1 is outside [0, 4)", InvalidArgument);
+  s.add_touch(bare);
+  CHECK_THROWS_WITH_AS(s.add_touch(live_touch_of(t.touches, i, 0)),
+                       "normal: touch 2 has a pad normal but the earlier touches have none", InvalidArgument);
+  CHECK(s.touches() == 1);
+
+  LiveSession oriented = refs.session();
+  LiveTouch nan_contact = live_touch_of(t.touches, i, 0);
+  nan_contact.contact_points(1, 2) = std::numeric_limits<double>::quiet_NaN();
+  CHECK(test::argument_of([&] { oriented.add_touch(nan_contact); }) == "contact_points");
+  LiveTouch nan_free = live_touch_of(t.touches, i, 0);
+  nan_free.free_points = Eigen::Matrix3Xd::Zero(3, 2);
+  nan_free.free_points(0, 1) = std::numeric_limits<double>::infinity();
+  CHECK(test::argument_of([&] { oriented.add_touch(nan_free); }) == "free_points");
+  CHECK(oriented.touches() == 0);
+
+  // The references' word() and construction name what is wrong.
+  CHECK(test::argument_of([&] { (void)refs.word(Eigen::Vector3f(1, 0, 0)); }) == "feature");
+  CHECK_THROWS_WITH_AS(refs.word(Eigen::Vector4f(0, std::numeric_limits<float>::quiet_NaN(), 0, 0)),
+                       doctest::Contains("feature: "), NonFiniteValue);
+  CHECK_THROWS_WITH_AS(LiveReferences<>(t, {-1}, oriented_classifiers, codebook(), Fusion::classifier("bow")),
+                       "train: touch -1 is outside [0, 240)", InvalidArgument);
+  TouchTable empty;
+  empty.objects = {"bar"};
+  CHECK_THROWS_WITH_AS(LiveReferences<>(empty, {}, oriented_classifiers, codebook(), Fusion::classifier("bow")),
+                       "table: holds no touch", EmptyInput);
+  // No training indices: every touch of the table.
+  CHECK(LiveReferences<>(t, {}, oriented_classifiers, codebook(), Fusion::classifier("bow")).touches_per_object() ==
+        std::vector<Index>{80, 80, 80});
+}
+
+TEST_CASE("live session: history, a confident stop at the limit, and a reset that forgets everything") {
+  const TouchTable t = synthetic_table(7);
+  std::vector<Index> held, train;
+  split(t, 12, held, train);
+  const LiveReferences<> refs(t, train, test::paper_classifiers, codebook(), parse_method("0.5*icp+0.5*bow").fusion);
+  const auto test = of_object(t, held, 2);
+  // Confident (threshold 0) and at the limit on touch 2: the confident stop wins.
+  LiveSession s = refs.session(LiveStopRule{0.0, 2, 2});
+  std::vector<double> confidences;
+  for (std::size_t k = 0; k < 2; ++k) {
+    const Index i = test[k];
+    const LiveStop stop =
+        s.add_touch(t.touches.positions.col(i), t.touches.features.col(i), refs.word(t.touches.features.col(i)));
+    CHECK(stop == (k == 0 ? LiveStop::kContinue : LiveStop::kConfident));
+    confidences.push_back(s.confidence());
+  }
+  REQUIRE(s.history().size() == 2);
+  for (std::size_t k = 0; k < 2; ++k) CHECK(s.history()[k].confidence == confidences[k]);
+  REQUIRE(s.confidence() > 0);
+  s.reset();
+  CHECK(s.confidence() == 0.0);
+  CHECK(s.fused().size() == 0);
+  CHECK(s.distances().objects() == 0);
+  CHECK(s.ranking().empty());
+  CHECK(s.stop() == LiveStop::kContinue);
+}
+
+TEST_CASE("rank_objects: best first, ties in index order, for any number of objects") {
+  CHECK(rank_objects(Eigen::Vector4d(1, 0, 1, 0)) == std::vector<Index>{1, 3, 0, 2});
+  // Enough objects that an unstable sort would reorder ties.
+  const Index n = 60;
+  Eigen::VectorXd fused(n);
+  for (Index i = 0; i < n; ++i) fused(i) = static_cast<double>((i * 7) % 3);
+  std::vector<Index> expected;
+  for (int value = 0; value < 3; ++value)
+    for (Index i = 0; i < n; ++i)
+      if (fused(i) == static_cast<double>(value)) expected.push_back(i);
+  CHECK(rank_objects(fused) == expected);
+}
+
+TEST_CASE("live weights: a tie goes to the earlier grid vector; a method with alternatives is refused") {
+  // Bar and ring only: every weight vector recognises every test.
+  const TouchTable three = synthetic_table(8);
+  std::vector<Index> rows;
+  for (Index i = 0; i < three.size(); ++i)
+    if (three.object[static_cast<std::size_t>(i)] != 2) rows.push_back(i);
+  TouchTable t = three.select(rows);
+  t.objects.pop_back();
+  CrossValidationSettings s;
+  s.touches = {3};
+  s.weight_repeats = 1;
+  const Method fitted = parse_method("icp+bow");
+  const LiveWeights w = choose_live_weights(t, test::paper_classifiers, codebook(), fitted, s);
+  REQUIRE(w.total > 0);
+  REQUIRE(w.correct == w.total);
+  CHECK(w.weights == weight_grid(2).front());
+
+  Method with_alternative = fitted;
+  with_alternative.alternatives = {parse_method("iclap+bow").fusion};
+  CHECK_THROWS_WITH_AS(choose_live_weights(t, test::paper_classifiers, codebook(), with_alternative, s),
+                       doctest::Contains("method: 'icp+bow' has alternatives"), InvalidArgument);
+}
+
+TEST_CASE("live evaluation: stop rules and fixed counts read off hand-made traces") {
+  LiveEvaluationResult r;
+  r.max_touches = 4;
+  auto trace = [](Index object, std::vector<Index> best, std::vector<double> confidence) {
+    LiveTrace tr;
+    tr.object = object;
+    tr.best = std::move(best);
+    tr.confidence = std::move(confidence);
+    tr.available = tr.replayed();
+    return tr;
+  };
+  r.traces = {trace(0, {1, 0, 0, 0}, {0.2, 0.5, 0.9, 0.9}), trace(1, {1, 1, 0}, {0.1, 0.3, 0.5}),
+              trace(2, {2, 2, 2, 2}, {0.5, 0.5, 0.5, 0.5}), trace(0, {0, 0, 0, 0}, {0.1, 0.1, 0.1, 0.1})};
+  // A confidence equal to the threshold stops.
+  const LiveStopOutcome o = r.stop(LiveStopRule{0.5, 1, 0});
+  CHECK(o.touches == std::vector<Index>{2, 3, 1, 4});
+  CHECK(o.tests == 4);
+  CHECK(o.confident == 3);
+  CHECK(o.correct == 3);
+  CHECK(o.mean_touches == 2.5);
+  CHECK(o.median_touches == 2.5);  // the mean of the two middle ones
+  // A limit equal to the touches replayed is allowed.
+  const LiveStopOutcome at_limit = r.stop(LiveStopRule{1.0, 1, 4});
+  CHECK(at_limit.touches == std::vector<Index>{4, 3, 4, 4});
+  CHECK(at_limit.confident == 0);
+  const LiveFixedOutcome four = r.fixed(4);
+  CHECK(four.tests == 4);
+  CHECK(four.short_tests == 1);
+  CHECK(four.correct == 3);
+  CHECK(r.fixed(1).short_tests == 0);
+  CHECK(r.fixed(1).correct == 3);
+}
+
+TEST_CASE("live_touch_of: a touch of a set brings its own contact and free points, only with a normal") {
+  TouchSet s;
+  s.positions = Eigen::Matrix3Xd::Zero(3, 2);
+  s.contact_points = Eigen::Matrix3Xd::Random(3, 5);
+  s.contact_offsets = {0, 1, 5};
+  s.free_points = Eigen::Matrix3Xd::Random(3, 4);
+  s.free_offsets = {0, 3, 4};
+  // Without normals the orientation is unknown: no points either.
+  CHECK(live_touch_of(s, 1, 0).contact_points.cols() == 0);
+  s.normals = Eigen::Matrix3Xd::Zero(3, 2);
+  s.normals.row(2).setConstant(-1);
+  const LiveTouch second = live_touch_of(s, 1, 0);
+  CHECK(second.contact_points == s.contact_points.rightCols(4));
+  CHECK(second.free_points == s.free_points.rightCols(1));
+  CHECK_THROWS_WITH_AS(live_touch_of(s, -1, 0), "i: touch -1 is outside [0, 2)", InvalidArgument);
+}
+
+namespace {
+
+/// A custom quantizer that checks nothing itself: word 1 when the first value is positive.
+struct SignQuantizer {
+  void fit(const Eigen::MatrixXf&) {}
+  Index assign(const Eigen::Ref<const Eigen::VectorXf>& feature) const { return feature(0) > 0 ? 1 : 0; }
+  Index size() const { return 2; }
+};
+
+}  // namespace
+
+TEST_CASE("live references: word() checks the descriptor itself, whatever the quantizer") {
+  const TouchTable t = synthetic_table(9);
+  const LiveReferences<SignQuantizer> refs(t, {}, test::paper_classifiers, SignQuantizer{}, Fusion::classifier("icp"));
+  CHECK(refs.word(Eigen::Vector4f(1, 0, 0, 0)) == 1);
+  CHECK_THROWS_WITH_AS(refs.word(Eigen::Vector3f(1, 0, 0)), doctest::Contains("feature: "), DimensionMismatch);
+  CHECK_THROWS_WITH_AS(refs.word(Eigen::Vector4f(1, std::numeric_limits<float>::quiet_NaN(), 0, 0)),
+                       doctest::Contains("feature: "), NonFiniteValue);
 }
