@@ -5,11 +5,16 @@
 // pairs only, the trimming tie rule, the order and the arithmetic of the
 // stopping rules, the inverse and matrix of a transform, the centroid and
 // centroid alignment, the composition with an initial rotation, the closed
-// 3x3 form's rank flag).
+// 3x3 form's rank flag). A second pass added: trimming after the gate,
+// what a registration without pairs reports, given first matches that name
+// no reference point or come from a search that rounds its sums
+// differently, and the 2-D reflection tie.
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "icp_test_util.hpp"
@@ -48,6 +53,23 @@ Eigen::Matrix3Xd origin_and_units() {
        0, 0, 0, 1;
   return m;
 }
+
+/// Brute force whose reported squared distance sums the coordinates in
+/// reverse order: a user's search policy, exact, but rounding differently
+/// from the library's own sums.
+struct ReverseSumSearch : BruteForceSearch<double, 4> {
+  using BruteForceSearch<double, 4>::BruteForceSearch;
+  Neighbor<double> nearest(const double* q) const noexcept {
+    Neighbor<double> nb = BruteForceSearch<double, 4>::nearest(q);
+    if (nb.index >= 0) nb.squared_distance = reverse_sum(q, points().col(nb.index).data());
+    return nb;
+  }
+  static double reverse_sum(const double* a, const double* b) noexcept {
+    double s = 0;
+    for (int i = 3; i >= 0; --i) s += (a[i] - b[i]) * (a[i] - b[i]);
+    return s;
+  }
+};
 
 }  // namespace
 
@@ -217,4 +239,115 @@ TEST_CASE("pairs that lose one to the distance gate are no fixed point, even whe
   CHECK(r.error < 1e-24);
   CHECK(difference(r.T_model_test.t, Eigen::Vector3d(0, 0, 0.5)) < 1e-15);
   CHECK(r.iterations == 2);
+}
+
+TEST_CASE("trimming keeps its fraction of the pairs the distance gate left, not of all pairs") {
+  DistanceRejector<double> both;
+  both.max_distance = 1.0;
+  both.trim_fraction = 0.5;
+  // Ten pairs, four beyond the gate: half of the six left is three, the
+  // closest (test points 2, 5 and 4), not five of ten.
+  auto pairs = pairs_at({0.5, 4.0, 0.1, 9.0, 0.3, 0.2, 2.0, 0.9, 3.0, 0.4});
+  const Index kept = both.select(pairs.data(), 10);
+  CHECK(kept == 3);
+  CHECK(kept_tests(pairs, kept) == std::vector<Index>{2, 4, 5});
+}
+
+TEST_CASE("without a pair left, a registration reports infinite E and RMSE, a degenerate result and no update") {
+  const Eigen::Matrix3Xd model = origin_and_units();
+  const Eigen::Matrix3Xd far = (model.array() + 10.0).matrix();
+  const ReferenceCloud<double, 3> ref(model);
+  Icp<double, 3> icp;
+  icp.rejection.max_distance = 1.0;
+  IcpWorkspace<double, 3> ws;
+  auto run = icp.start(ref, far, nullptr, ws);
+  const double inf = std::numeric_limits<double>::infinity();
+  CHECK(run.done());
+  CHECK(run.pairs() == 0);
+  CHECK(run.error() == inf);
+  CHECK(run.stop_reason() == StopReason::NoCorrespondences);
+  CHECK_FALSE(run.step());
+  CHECK(run.iterations() == 0);
+  const auto r = run.result();
+  CHECK(r.pairs == 0);
+  CHECK(r.error == inf);
+  CHECK(r.rmse == inf);
+  CHECK(r.degenerate);  // no pair determines anything
+  CHECK_FALSE(r.converged);
+  CHECK(r.T_model_test.R == Eigen::Matrix3d::Identity());
+  CHECK(r.T_model_test.t == Eigen::Vector3d::Zero());
+}
+
+TEST_CASE("a given first match naming no reference point is refused as such, before its distance is read") {
+  const Eigen::MatrixXd model = random_points(3, 100, 81), test = random_points(3, 20, 83);
+  const ReferenceCloud<double, 3> ref(model);
+  const Icp<double, 3> icp;
+  IcpWorkspace<double, 3> ws;
+  std::vector<Neighbor<double>> mine;
+  icp.first_matches(ref, test, nullptr, ws, mine);
+  for (const Index named : {Index(-1), Index(100)}) {  // just below and at the end of the 100 points
+    CAPTURE(named);
+    std::vector<Neighbor<double>> bad = mine;
+    bad[7].index = named;
+    try {
+      (void)icp.align(ref, test, nullptr, ws, bad);
+      FAIL("accepted");
+    } catch (const InvalidArgument& e) {
+      CHECK(e.argument() == "first_matches");
+      CHECK(e.reason() == "entry 7 names reference point " + std::to_string(named) + " of 100");
+    }
+  }
+}
+
+TEST_CASE("given first matches of a search that rounds its sums differently are accepted, as its own would be") {
+  // first_matches documents a tolerance for exactly this: the library's
+  // check recomputes each distance in its own summation order.
+  const Eigen::MatrixXd model = random_points(4, 200, 93), test = random_points(4, 40, 94);
+  const ReferenceCloud<double, 4, ReverseSumSearch> ref(model);
+  const Icp<double, 4> icp;
+  IcpWorkspace<double, 4> ws;
+  std::vector<Neighbor<double>> first;
+  icp.first_matches(ref, test, nullptr, ws, first);
+  // Some reported distances differ from the library's sum in the last bits
+  // (otherwise this case could not fail).
+  int rounded_differently = 0;
+  for (Index i = 0; i < test.cols(); ++i) {
+    const auto& nb = first[static_cast<std::size_t>(i)];
+    const double own = detail::squared_distance<4>(ws.test_points.col(i).data(),
+                                                   ref.working_points().col(nb.index).data(), 4);
+    if (own != nb.squared_distance) ++rounded_differently;
+  }
+  REQUIRE(rounded_differently > 0);
+  const auto plain = icp.align(ref, test, nullptr, ws);
+  const auto given = icp.align(ref, test, nullptr, ws, first);
+  CHECK(given.iterations == plain.iterations);
+  CHECK(given.error == plain.error);
+  CHECK(given.T_model_test.R == plain.T_model_test.R);
+  CHECK(given.T_model_test.t == plain.T_model_test.t);
+}
+
+TEST_CASE("a 2-D mirror image leaves the full rigid rotation undetermined: flagged, as in 3-D") {
+  // H = diag(1, -1): every proper rotation R gives tr(R H) = 0.
+  const Eigen::Vector2d zero = Eigen::Vector2d::Zero();
+  const auto tie =
+      FullRigid::estimate<double, 2>(zero, zero, Eigen::Matrix2d(Eigen::Vector2d(1, -1).asDiagonal()), 1e-12);
+  CHECK(tie.degenerate);
+  CHECK(tie.R.determinant() == doctest::Approx(1.0));
+  // Distinct singular values: the flipped optimum (the identity) is unique.
+  const auto apart =
+      FullRigid::estimate<double, 2>(zero, zero, Eigen::Matrix2d(Eigen::Vector2d(2, -1).asDiagonal()), 1e-12);
+  CHECK_FALSE(apart.degenerate);
+  CHECK(difference(apart.R, Eigen::Matrix2d::Identity()) < 1e-15);
+}
+
+TEST_CASE("a maximum distance of 0 is refused as not positive, before its square is judged") {
+  DistanceRejector<double> gate;
+  gate.max_distance = 0;
+  try {
+    gate.validate();
+    FAIL("accepted");
+  } catch (const InvalidArgument& e) {
+    CHECK(e.argument() == "rejection.max_distance");
+    CHECK(e.reason() == "must be > 0 (got 0)");
+  }
 }
