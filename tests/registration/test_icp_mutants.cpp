@@ -5,7 +5,8 @@
 // pairs only, the trimming tie rule, the order and the arithmetic of the
 // stopping rules, the inverse and matrix of a transform, the centroid and
 // centroid alignment, the composition with an initial rotation, the closed
-// 3x3 form's rank flag). A second pass added: trimming after the gate,
+// 3x3 form's rank flag and its hand-off of near-tied reflections to the
+// SVD). A second pass added: trimming after the gate,
 // what a registration without pairs reports, given first matches that name
 // no reference point or come from a search that rounds its sums
 // differently, and the 2-D reflection tie.
@@ -217,6 +218,35 @@ TEST_CASE("the 3x3 closed form flags a singular value below the rank tolerance, 
     detail::proper_rotation<double, Eigen::Dynamic>(Eigen::MatrixXd(H), tol, Rd, by_svd);
     CHECK(by_svd);
     CHECK(difference(R, Rd) < 1e-9);
+  }
+}
+
+TEST_CASE("the 3x3 closed form leaves a near-tied reflection of axis-aligned pairs to the SVD") {
+  // A reflected H whose two smallest singular values are `gap` apart, under
+  // float's rank tolerance (6.1e-5). Turned far from the axes, the closed
+  // form fails on such an H by itself; aligned with the axes or nearly (a
+  // mirror image of axis-aligned pairs), its eigenvectors are exact enough
+  // for the refinement to converge, and only the explicit hand-off keeps it
+  // from answering "not degenerate" for a tie the SVD flags.
+  const double tol = detail::rank_tolerance<float>(3);
+  const Eigen::Vector3d a = Eigen::Vector3d(1, 2, 3).normalized(), b = Eigen::Vector3d(3, -1, 2).normalized();
+  for (double gap : {1e-3, 1e-4, 1e-5, 1e-6, 1e-7}) {
+    for (double angle : {0.0, 1e-12, 1e-8, 1e-4}) {
+      CAPTURE(gap);
+      CAPTURE(angle);
+      const Eigen::Matrix3d U = Eigen::AngleAxisd(angle, a).toRotationMatrix();
+      const Eigen::Matrix3d V = Eigen::AngleAxisd(-2 * angle, b).toRotationMatrix();
+      const Eigen::Matrix3d H = U * Eigen::Vector3d(1.0, 0.01 + gap, -0.01).asDiagonal() * V.transpose();
+      Eigen::Matrix3d R3;
+      bool d3 = false;
+      detail::proper_rotation<double, 3>(H, tol, R3, d3);
+      Eigen::MatrixXd Rd;
+      bool dd = !d3;
+      detail::proper_rotation<double, Eigen::Dynamic>(Eigen::MatrixXd(H), tol, Rd, dd);
+      CHECK(d3 == !(gap > tol));
+      CHECK(d3 == dd);
+      if (!d3) CHECK(difference(R3, Rd) < 1e-9);
+    }
   }
 }
 
