@@ -26,6 +26,7 @@
 #include "iclap/rig/serial_port.hpp"
 #include "iclap/rig/wts_sensor.hpp"
 #include "rig_test_util.hpp"
+#include "../support/errors.hpp"
 #include "../support/temporaries.hpp"
 
 using namespace iclap::rig;
@@ -354,18 +355,11 @@ TEST_CASE("Pose specs") {
   CHECK_FALSE(fixed->has_orientation());
   CHECK(fixed->next()->position == p->position);  // never ends
   // The norm as it is, not rounded to 6 decimals ("0.000000", "0.999999").
-  auto message = [](const std::string& spec) {
-    try {
-      make_pose_source(spec);
-    } catch (const iclap::InvalidArgument& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
-  const std::string tiny = message("fixed:0,0,0,1e-7,0,0,0");
+  const std::string tiny = iclap::test::what_of([] { make_pose_source("fixed:0,0,0,1e-7,0,0,0"); });
   CHECK(tiny.find("expected 1 within 1e-6") != std::string::npos);
   CHECK(tiny.find("e-0") != std::string::npos);
-  CHECK(message("fixed:0,0,0,0.9999986,0,0,0").find("has norm 0.999998") != std::string::npos);
+  CHECK(iclap::test::what_of([] { make_pose_source("fixed:0,0,0,0.9999986,0,0,0"); }).find("has norm 0.999998") !=
+        std::string::npos);
   auto oriented = make_pose_source("fixed:0,0,0,1,0,0,0");
   CHECK(oriented->has_orientation());
   CHECK(oriented->next()->orientation->w() == 1.0);
@@ -516,30 +510,23 @@ TEST_CASE("DatasetFrameSource: last_frame() before any frame names the misuse") 
 TEST_CASE("Poses: every position coordinate and the quaternion are checked; a replay names the bad pose") {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
-  const auto message = [](const std::function<void()>& make) {
-    try {
-      make();
-    } catch (const iclap::InvalidArgument& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
+  using iclap::test::what_of;  // the InvalidArgument's what(), "(no error)" when accepted
   for (int i = 0; i < 3; ++i) {
     CAPTURE(i);
     for (double bad : {nan, inf, -inf}) {
       CAPTURE(bad);
       Pose pose;
       pose.position[i] = bad;
-      CHECK(message([&] { FixedPoseSource source(pose); }) ==
+      CHECK(what_of([&] { FixedPoseSource source(pose); }) ==
             "pose: position coordinate " + std::to_string(i) + " is not finite");
       std::vector<Pose> poses(3);
       poses[2] = pose;
-      CHECK(message([&] { ReplayPoseSource source(poses, "three"); }) ==
+      CHECK(what_of([&] { ReplayPoseSource source(poses, "three"); }) ==
             "poses[2]: position coordinate " + std::to_string(i) + " is not finite");
     }
   }
   for (const Eigen::Quaterniond& q : {Eigen::Quaterniond(nan, 0, 0, 0), Eigen::Quaterniond(1, 0, nan, 0)}) {
-    const std::string m = message([&] { FixedPoseSource source(Pose{{0, 0, 0}, q}); });
+    const std::string m = what_of([&] { FixedPoseSource source(Pose{{0, 0, 0}, q}); });
     CAPTURE(m);
     CHECK(m.find("pose: orientation quaternion has norm") == 0);
     CHECK(m.find("expected 1 within 1e-6") != std::string::npos);
@@ -547,11 +534,11 @@ TEST_CASE("Poses: every position coordinate and the quaternion are checked; a re
   // A replay's poses all have an orientation or none has.
   const Pose plain{{0, 0, 0}, {}};
   const Pose oriented{{0, 0, 0}, Eigen::Quaterniond::Identity()};
-  CHECK(message([&] { ReplayPoseSource source({oriented, plain}, "mixed"); }) ==
+  CHECK(what_of([&] { ReplayPoseSource source({oriented, plain}, "mixed"); }) ==
         "poses: pose 1 differs from pose 0 in having an orientation");
-  CHECK(message([&] { ReplayPoseSource source({plain, plain, oriented}, "mixed"); }) ==
+  CHECK(what_of([&] { ReplayPoseSource source({plain, plain, oriented}, "mixed"); }) ==
         "poses: pose 2 differs from pose 0 in having an orientation");
-  CHECK(message([&] { ReplayPoseSource source({oriented, oriented}, "both"); }) == "accepted");
+  CHECK(what_of([&] { ReplayPoseSource source({oriented, oriented}, "both"); }) == "(no error)");
 }
 
 TEST_CASE("DatasetFrameSource: each frame carries its own time, or none") {

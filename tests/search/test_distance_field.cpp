@@ -11,6 +11,7 @@
 
 #include "iclap/core/random.hpp"
 #include "iclap/search/distance_field.hpp"
+#include "../support/errors.hpp"
 
 using namespace iclap;
 
@@ -32,15 +33,10 @@ Eigen::Matrix3Xd random_points(Rng& rng, Index n, double half) {
   return p;
 }
 
-/// What building a field of `pts` with `s` throws (its what()), the points
-/// named "evidence"; empty when the field is built.
+/// The what() of the InvalidArgument building a field of `pts` with `s`
+/// throws, the points named "evidence"; "(no error)" when the field is built.
 std::string refusal(const Eigen::Matrix3Xd& pts, const DistanceFieldSettings& s) {
-  try {
-    TruncatedDistanceField f(pts, s, "evidence");
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
+  return test::what_of([&] { TruncatedDistanceField f(pts, s, "evidence"); });
 }
 
 }  // namespace
@@ -134,7 +130,7 @@ TEST_CASE("distance field: settings and points out of range are refused, naming 
   CHECK(refusal(p, {std::numeric_limits<double>::quiet_NaN(), 3e-3}).find("settings.voxel") != std::string::npos);
   CHECK(refusal(p, {1e-3, 0.0}).find("settings.truncation") != std::string::npos);
   CHECK(refusal(p, {1e-3, 0.0641}).find("at most 64 voxels") != std::string::npos);
-  CHECK(refusal(p, {1e-3, 0.064}).empty());
+  CHECK(refusal(p, {1e-3, 0.064}) == "(no error)");
   // A truncation whose float square is 0 (every query read 0, as if at a
   // point) or inf; the extremes that square to normal floats are kept.
   CHECK(refusal(p, {1e-24, 3e-24}).find("settings.truncation: must square to a normal finite float") == 0);
@@ -156,7 +152,7 @@ TEST_CASE("distance field: settings and points out of range are refused, naming 
   Eigen::Matrix3Xd spread(3, 2);
   spread << 0, 5000, 0, 5000, 0, 5000;
   CHECK(refusal(spread, {}).find("use a larger voxel") != std::string::npos);
-  CHECK(refusal(spread, {100.0, 200.0}).empty());
+  CHECK(refusal(spread, {100.0, 200.0}) == "(no error)");
 }
 
 TEST_CASE("distance field: an infinite voxel, a zero truncation and one squaring to a subnormal float are refused") {

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-// What an iclap error names, for checks that a bad input is refused under
-// the right name.
+// What an iclap error names or says, for checks that a bad input is refused
+// under the right name and for the right reason.
 
 #include <string>
+#include <type_traits>
 
 #include "iclap/core/error.hpp"
 
@@ -18,6 +19,20 @@ std::string argument_of(F&& f) {
     f();
   } catch (const InvalidArgument& e) {
     return e.argument();
+  }
+  return "(no error)";
+}
+
+/// The what() of the E (an iclap error type, InvalidArgument unless given)
+/// thrown by `f`, "(no error)" when `f` throws nothing (any other exception
+/// propagates, failing the test case rather than passing as a message).
+template <typename E = InvalidArgument, typename F>
+std::string what_of(F&& f) {
+  static_assert(std::is_base_of_v<Error, E>, "what_of reads iclap errors");
+  try {
+    f();
+  } catch (const E& e) {
+    return e.what();
   }
   return "(no error)";
 }
