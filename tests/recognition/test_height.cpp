@@ -10,6 +10,7 @@
 #include "iclap/core/random.hpp"
 #include "iclap/recognition/recognition.hpp"
 #include "iclap/tactile/raw_pressures.hpp"
+#include "../support/wts_dataset.hpp"
 
 using namespace iclap;
 
@@ -44,9 +45,7 @@ TEST_CASE("height_and_tilt: height and tilt from straight down") {
 }
 
 TEST_CASE("touch tables carry the pad normals when every contact frame has an orientation") {
-  Dataset ds;
-  ds.rows = 14;
-  ds.cols = 6;
+  Dataset ds = test::wts_dataset();
   Frame f;
   f.object = "a";
   f.position = Eigen::Vector3d(0, 0, 0.01);

@@ -15,6 +15,7 @@
 #include "iclap/recognition/occupancy_classifier.hpp"
 #include "iclap/recognition/touch_table.hpp"
 #include "iclap/tactile/raw_pressures.hpp"
+#include "../support/wts_dataset.hpp"
 
 using namespace iclap;
 
@@ -139,9 +140,7 @@ std::vector<TouchSet> training() {
 }  // namespace
 
 TEST_CASE("make_touch_table and live touches carry the free points: the taxels that felt nothing") {
-  Dataset ds;
-  ds.rows = 14;
-  ds.cols = 6;
+  Dataset ds = test::wts_dataset();
   Frame f;
   f.object = "a";
   f.position = Eigen::Vector3d(0.01, 0.02, 0.03);

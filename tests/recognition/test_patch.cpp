@@ -7,6 +7,7 @@
 #include "iclap/core/random.hpp"
 #include "iclap/recognition/recognition.hpp"
 #include "iclap/tactile/raw_pressures.hpp"
+#include "../support/wts_dataset.hpp"
 
 using namespace iclap;
 
@@ -27,9 +28,7 @@ Frame frame(const std::string& object, std::int64_t exploration, Eigen::Vector3d
 }  // namespace
 
 TEST_CASE("contact points: pressed taxels placed by the pad pose and pitch") {
-  Dataset ds;
-  ds.rows = 14;
-  ds.cols = 6;
+  Dataset ds = test::wts_dataset();
   ds.comments = {"sensor: WTS 0614-34A rows=14 cols=6 pitch_m=0.004"};
   CHECK(taxel_pitch_of(ds) == 0.004);
   Frame a = frame("a", 0, Eigen::Vector3d(1.0, 2.0, 0.5), 0.0);
@@ -67,9 +66,7 @@ TEST_CASE("contact points: pressed taxels placed by the pad pose and pitch") {
 }
 
 TEST_CASE("taxel pitch: a pitch_m= that is not a plausible pitch is refused, quoting the comment") {
-  Dataset ds;
-  ds.rows = 14;
-  ds.cols = 6;
+  Dataset ds = test::wts_dataset();
   Frame f = frame("a", 0, Eigen::Vector3d(0.0, 0.0, 0.01), 0.0);
   f.pressures(3, 3) = 100;
   ds.frames = {f};

@@ -13,10 +13,13 @@
 #include "iclap/recognition/touch_table.hpp"
 #include "iclap/tactile/raw_pressures.hpp"
 #include "../support/errors.hpp"
+#include "../support/wts_dataset.hpp"
 
 using namespace iclap;
 
 namespace {
+
+using test::wts_dataset;
 
 /// A 14 x 6 frame of `object`; `peak` on taxel (3, 2) (0: an idle frame).
 Frame frame(const std::string& object, std::int64_t exploration, std::int64_t index, double peak) {
@@ -30,14 +33,6 @@ Frame frame(const std::string& object, std::int64_t exploration, std::int64_t in
   return f;
 }
 
-Dataset dataset(std::vector<Frame> frames) {
-  Dataset ds;
-  ds.rows = 14;
-  ds.cols = 6;
-  ds.frames = std::move(frames);
-  return ds;
-}
-
 /// Pad facing straight down (pad z, into the object, is world -z).
 const Eigen::Quaterniond kDown(Eigen::AngleAxisd(3.141592653589793, Eigen::Vector3d::UnitX()));
 
@@ -45,8 +40,8 @@ const Eigen::Quaterniond kDown(Eigen::AngleAxisd(3.141592653589793, Eigen::Vecto
 
 TEST_CASE("touch table: each contact frame is a touch with its object, exploration and frame; idle frames are counted") {
   // Object "b" appears first, in an idle frame; explorations out of order.
-  const Dataset ds = dataset({frame("b", 5, 0, 0.0), frame("a", 7, 3, 90.0), frame("b", 2, 9, 50.0),
-                              frame("a", 7, 4, 10.0), frame("a", 1, 11, 30.0)});
+  const Dataset ds = wts_dataset({frame("b", 5, 0, 0.0), frame("a", 7, 3, 90.0), frame("b", 2, 9, 50.0),
+                                  frame("a", 7, 4, 10.0), frame("a", 1, 11, 30.0)});
   std::vector<std::pair<std::size_t, std::size_t>> calls;
   const TouchTable t = make_touch_table(ds, RawPressures<float>{}, 20.0,
                                         [&](std::size_t done, std::size_t total) { calls.emplace_back(done, total); });
@@ -68,7 +63,8 @@ TEST_CASE("touch table: each contact frame is a touch with its object, explorati
 }
 
 TEST_CASE("touch table: validate names a bad object index and a part of the wrong length") {
-  const TouchTable t = make_touch_table(dataset({frame("a", 0, 0, 90.0), frame("b", 0, 1, 90.0)}), RawPressures<float>{}, 20.0);
+  const TouchTable t =
+      make_touch_table(wts_dataset({frame("a", 0, 0, 90.0), frame("b", 0, 1, 90.0)}), RawPressures<float>{}, 20.0);
   REQUIRE(t.size() == 2);
   TouchTable bad = t;
   bad.object[1] = -1;
@@ -83,10 +79,10 @@ TEST_CASE("touch table: validate names a bad object index and a part of the wron
 }
 
 TEST_CASE("taxel pitch: the comment that has a pitch_m= gives it, else the caller's fallback; a non-number says so") {
-  Dataset ds = dataset({});
+  Dataset ds = wts_dataset();
   ds.comments = {"recorded by iclap record", "sensor: x rows=14 cols=6 pitch_m=0.005"};
   CHECK(taxel_pitch_of(ds) == 0.005);
-  CHECK(taxel_pitch_of(dataset({}), 0.002) == 0.002);
+  CHECK(taxel_pitch_of(wts_dataset(), 0.002) == 0.002);
   ds.comments = {"sensor: x pitch_m=abc"};
   CHECK_THROWS_WITH_AS(taxel_pitch_of(ds), "dataset: the pitch_m= of comment 'sensor: x pitch_m=abc' is not a number",
                        InvalidArgument);
@@ -103,7 +99,7 @@ TEST_CASE("contact and free points: a taxel at the threshold is free; a fully pr
   CHECK(append_free_points(f, 20.0, 0.004, free) == 83);
   // Taxel (2, 2) is at (-4.5, -0.5) pitches in the pad frame; facing down, pad y is world -y.
   CHECK((pressed[0] - Eigen::Vector3d(-4.5 * 0.004, 0.5 * 0.004, 0.02)).norm() < 1e-12);
-  const TouchTable t = make_touch_table(dataset({f}), RawPressures<float>{}, 20.0);
+  const TouchTable t = make_touch_table(wts_dataset({f}), RawPressures<float>{}, 20.0);
   CHECK(t.touches.contacts_of(0) == 1);
   CHECK(t.touches.free_of(0) == 83);
   // The orientation turns the pad frame into the world (not back): turned
@@ -119,7 +115,7 @@ TEST_CASE("contact and free points: a taxel at the threshold is free; a fully pr
   // a classifier that needs free points does not take it for a dataset
   // without orientations.
   f.pressures.setConstant(100.0);
-  const TouchTable full = make_touch_table(dataset({f}), RawPressures<float>{}, 20.0);
+  const TouchTable full = make_touch_table(wts_dataset({f}), RawPressures<float>{}, 20.0);
   CHECK(full.touches.contacts_of(0) == 84);
   CHECK(full.touches.has_free());
   CHECK(full.touches.free_offsets == std::vector<Index>{0, 0});
@@ -129,7 +125,7 @@ TEST_CASE("contact and free points: a taxel at the threshold is free; a fully pr
 TEST_CASE("touch table: a descriptor whose length changes between frames is refused, naming the frame") {
   Frame small = frame("a", 0, 2, 90.0);
   small.pressures = Eigen::MatrixXd::Constant(4, 4, 90.0);
-  const Dataset ds = dataset({frame("a", 0, 0, 0.0), frame("a", 0, 1, 90.0), small});
+  const Dataset ds = wts_dataset({frame("a", 0, 0, 0.0), frame("a", 0, 1, 90.0), small});
   CHECK(test::argument_of([&] { (void)make_touch_table(ds, RawPressures<float>{}, 20.0); }) ==
         "features of dataset.frames[2]");
 }
