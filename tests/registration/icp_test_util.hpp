@@ -65,6 +65,24 @@ double difference(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) 
   return (a.template cast<double>() - b.template cast<double>()).norm();
 }
 
+/// The best proper rotation of a 3x3 cross-covariance H and its degenerate
+/// flag, by the 3x3 route (closed form, else Jacobi SVD) and by the SVD of a
+/// Dynamic block, for checks that the two routes agree.
+struct RotationRoutes {
+  Eigen::Matrix3d R3;
+  bool degenerate3 = false;
+  Eigen::MatrixXd Rd;
+  bool degenerate_dynamic = false;
+};
+
+inline RotationRoutes rotation_routes(const Eigen::Matrix3d& H, double rank_tol) {
+  RotationRoutes r;
+  detail::proper_rotation<double, 3>(H, rank_tol, r.R3, r.degenerate3);
+  r.degenerate_dynamic = !r.degenerate3;  // so that a route that never sets it fails the comparison
+  detail::proper_rotation<double, Eigen::Dynamic>(Eigen::MatrixXd(H), rank_tol, r.Rd, r.degenerate_dynamic);
+  return r;
+}
+
 /// k units of the scalar's epsilon.
 template <typename Scalar>
 constexpr double eps(double k) {

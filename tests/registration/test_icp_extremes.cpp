@@ -263,15 +263,10 @@ TEST_CASE("the 3x3 closed form flags a reflection tie exactly as the SVD of any 
       CAPTURE(k);
       const Eigen::Matrix3d U = random_rotation(3, 3.0, rng), V = random_rotation(3, 3.0, rng);
       const Eigen::Matrix3d H = U * Eigen::Vector3d(1.0, 0.01 + gap, -0.01).asDiagonal() * V.transpose();
-      Eigen::Matrix3d R3;
-      bool d3 = false;
-      detail::proper_rotation<double, 3>(H, tol, R3, d3);
-      Eigen::MatrixXd Rd;
-      bool dd = !d3;
-      detail::proper_rotation<double, Eigen::Dynamic>(Eigen::MatrixXd(H), tol, Rd, dd);
-      CHECK(d3 == dd);
-      CHECK(d3 == !(gap > tol));
-      CHECK(difference(R3, Rd) < 1e-6 / gap);
+      const RotationRoutes r = rotation_routes(H, tol);
+      CHECK(r.degenerate3 == r.degenerate_dynamic);
+      CHECK(r.degenerate3 == !(gap > tol));
+      CHECK(difference(r.R3, r.Rd) < 1e-6 / gap);
     }
   }
 }

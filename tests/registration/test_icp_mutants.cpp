@@ -237,15 +237,10 @@ TEST_CASE("the 3x3 closed form leaves a near-tied reflection of axis-aligned pai
       const Eigen::Matrix3d U = Eigen::AngleAxisd(angle, a).toRotationMatrix();
       const Eigen::Matrix3d V = Eigen::AngleAxisd(-2 * angle, b).toRotationMatrix();
       const Eigen::Matrix3d H = U * Eigen::Vector3d(1.0, 0.01 + gap, -0.01).asDiagonal() * V.transpose();
-      Eigen::Matrix3d R3;
-      bool d3 = false;
-      detail::proper_rotation<double, 3>(H, tol, R3, d3);
-      Eigen::MatrixXd Rd;
-      bool dd = !d3;
-      detail::proper_rotation<double, Eigen::Dynamic>(Eigen::MatrixXd(H), tol, Rd, dd);
-      CHECK(d3 == !(gap > tol));
-      CHECK(d3 == dd);
-      if (!d3) CHECK(difference(R3, Rd) < 1e-9);
+      const RotationRoutes r = rotation_routes(H, tol);
+      CHECK(r.degenerate3 == !(gap > tol));
+      CHECK(r.degenerate3 == r.degenerate_dynamic);
+      if (!r.degenerate3) CHECK(difference(r.R3, r.Rd) < 1e-9);
     }
   }
 }
