@@ -52,6 +52,12 @@ TEST_CASE("point files: every malformed case names the file and the line") {
   CHECK(error_of("# nothing\n\n") == "pts.txt:2: no points in the file");
   CHECK(error_of("x y z\n") == "pts.txt:1: no points in the file");
   CHECK(error_of("1 2\n3 4\n5 6 7e\n") == "pts.txt:3: '7e' in column 3 is not a number");
+  // A comma before the first value is an empty value too, and a point with
+  // more values than the first one is refused like one with fewer (read on,
+  // it would shift every later coordinate into the wrong point).
+  CHECK(error_of(",1,2\n") == "pts.txt:1: empty value before a comma");
+  CHECK(error_of("1 2\n3 4\n , 5 6\n") == "pts.txt:3: empty value before a comma");
+  CHECK(error_of("1 2\n3 4 5\n") == "pts.txt:2: 3 values, expected 2 (the dimension set by the first point)");
   // A number out of a double's range is an error, not a header line that
   // would silently drop the first point; "+-1" is no number either.
   CHECK(error_of("1e-400 0 0\n1 0 0\n") == "pts.txt:1: '1e-400' in column 1 is out of the range of a double");
