@@ -262,3 +262,82 @@ TEST_CASE("labeled cloud ply: a label below the int32 range is refused too, and 
   iclap::write_labeled_cloud_ply(path, p, lowest);
   CHECK(slurp(path).find("\n0 0 0 -2147483648 128 128 128\n") != std::string::npos);
 }
+
+TEST_CASE("dataset csv writer: names the reader would not take back, and non-finite times and heights, are refused") {
+  const Dataset ds = small_dataset(4, true, false);
+  Dataset d = ds;
+  // A carriage return alone is a line break to the reader.
+  d.frames[1].object = "pli\rers";
+  CHECK(writer_refusal(d) == "dataset.frames[1].object: 'pli\\x0ders' contains a line break");
+  // A row starting with '#' would read as a comment after the header.
+  d = ds;
+  d.frames[2].object = "#3";
+  CHECK(writer_refusal(d) == "dataset.frames[2].object: '#3' starts with '#'");
+  // Every coordinate is checked, z too; and the time.
+  d = ds;
+  d.frames[3].position.z() = std::numeric_limits<double>::quiet_NaN();
+  CHECK(writer_refusal(d) == "dataset.frames[3].position: is not finite");
+  d = ds;
+  d.frames[1].time = std::numeric_limits<double>::infinity();
+  CHECK(writer_refusal(d) == "dataset.frames[1].time: is not finite");
+  // A comment with a lone carriage return would not read back as written.
+  d = ds;
+  d.comments = {"fine", "half\rline"};
+  CHECK(writer_refusal(d) == "dataset.comments[1]: contains a line break");
+  TempDir dir("data_mutants_comment");
+  CHECK(iclap::test::argument_of([&] { iclap::DatasetCsvAppender app(dir.file("c.csv"), 1, 1, false, false, {"a\rb"}); }) ==
+        "comments[0]");
+  CHECK_FALSE(std::filesystem::exists(dir.file("c.csv")));
+}
+
+TEST_CASE("dataset csv reader: a '#' name after blanks, a lone BOM, a 10-digit taxel index, a directory") {
+  // Trimmed, the name starts with '#': refused like the writer refuses it.
+  CHECK(reader_refusal("object,exploration,frame,x,y,z,p0_0\n  #3,0,0,0,0,0,1\n") ==
+        "2: column 'object': name '#3' starts with '#'");
+  // A byte-order mark and nothing else is an empty file, not a header.
+  CHECK(reader_refusal("\xEF\xBB\xBF") == "0: no header row (the file has no columns)");
+  // Taxel indices have at most 9 digits: p1000000000_0 is an unknown column
+  // (warned about), not row 10^9 of a grid with a hole.
+  std::istringstream in("object,exploration,frame,x,y,z,p0_0,p1000000000_0\na,0,0,0,0,0,1,2\n");
+  std::vector<iclap::DatasetWarning> warnings;
+  const Dataset ds = iclap::read_dataset_csv(in, "mem.csv", [&](const iclap::DatasetWarning& w) { warnings.push_back(w); });
+  CHECK(ds.rows == 1);
+  CHECK(ds.cols == 1);
+  REQUIRE(warnings.size() == 1);
+  CHECK(warnings[0].to_string() == "mem.csv:1: warning: ignoring unknown column 'p1000000000_0'");
+  // A directory is named as one (not a bare read failure).
+  TempDir dir("data_mutants_dir");
+  CHECK(iclap::test::what_of<iclap::IoError>([&] { (void)iclap::read_dataset_csv(dir.path.string()); }) ==
+        dir.path.string() + ": is a directory, not a dataset file");
+}
+
+TEST_CASE("dataset csv appender: blank lines are no rows; a long list of missing columns is counted") {
+  TempDir dir("data_mutants_appender_misc");
+  const std::string path = dir.file("blank.csv");
+  spit(path, "object,exploration,frame,x,y,z,p0_0\n\na,0,0,0,0,0,1\n  \nb,0,1,0,0,0,2\n\n");
+  {
+    iclap::DatasetCsvAppender app(path, 1, 1, false, false);
+    CHECK(app.rows_in_file() == 2);
+  }
+  // Six taxel columns missing: five named, then "and 1 more".
+  try {
+    iclap::DatasetCsvAppender app(path, 1, 7, false, false);
+    FAIL("accepted");
+  } catch (const iclap::ParseError& e) {
+    CHECK(e.line() == 1);
+    CHECK(e.reason() ==
+          "header does not match the recorder's columns (1x7 taxels, t no, quaternion no): missing 'p0_1', 'p0_2', "
+          "'p0_3', 'p0_4', 'p0_5' and 1 more");
+  }
+}
+
+TEST_CASE("labeled cloud ply: a comment with a lone carriage return is refused") {
+  const TempDir dir("data_mutants_ply_comment");
+  const std::string path = dir.file("c.ply");
+  const Eigen::Matrix3Xd p = Eigen::Matrix3Xd::Zero(3, 1);
+  iclap::LabeledCloudPlyOptions options;
+  options.comments = {"half\rline"};
+  CHECK(iclap::test::what_of([&] { iclap::write_labeled_cloud_ply(path, p, std::vector<int>{0}, options); }) ==
+        "options.comments: a comment contains a line break");
+  CHECK_FALSE(std::filesystem::exists(path));
+}
