@@ -146,12 +146,7 @@ std::vector<std::string> names_in(const std::filesystem::path& dir, const std::s
   std::sort(out.begin(), out.end());
   return out;
 }
-std::string slurp_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using iclap::test::slurp;
 }  // namespace
 
 TEST_CASE("AtomicFileWriter: all or nothing") {
@@ -175,12 +170,12 @@ TEST_CASE("AtomicFileWriter: all or nothing") {
     w.stream() << "complete\n";
     w.commit();
   }
-  CHECK(slurp_file(path) == "complete\n");
+  CHECK(slurp(path) == "complete\n");
   {
     AtomicFileWriter w(path);
     w.stream() << "replacement that fails";
   }
-  CHECK(slurp_file(path) == "complete\n");  // the old file is untouched
+  CHECK(slurp(path) == "complete\n");  // the old file is untouched
   {
     // A write that fails part-way (file size limit, as on a full disk):
     // WriteError, the old file untouched, no temporary left.
@@ -190,10 +185,10 @@ TEST_CASE("AtomicFileWriter: all or nothing") {
     w.stream() << std::string(1 << 16, 'x');
     CHECK_THROWS_AS(w.commit(), WriteError);
   }
-  REQUIRE(slurp_file(path).size() < 100);  // not the 64 KiB of x (which doctest would print)
-  CHECK(slurp_file(path) == "complete\n");
+  REQUIRE(slurp(path).size() < 100);  // not the 64 KiB of x (which doctest would print)
+  CHECK(slurp(path) == "complete\n");
   CHECK(names_in(".", path).size() == 2);
-  CHECK(slurp_file(path + ".partial") == "precious\n");
+  CHECK(slurp(path + ".partial") == "precious\n");
   {
     // Without the directory sync (a file of a staging directory), the file
     // is in place all the same and no temporary is left.
@@ -201,7 +196,7 @@ TEST_CASE("AtomicFileWriter: all or nothing") {
     w.stream() << "staged\n";
     w.commit(AtomicFileWriter::DirectorySync::no);
   }
-  CHECK(slurp_file(path) == "staged\n");
+  CHECK(slurp(path) == "staged\n");
   CHECK(names_in(".", path).size() == 2);
   std::remove(path.c_str());
   std::remove((path + ".partial").c_str());
@@ -234,7 +229,7 @@ TEST_CASE("AtomicFileWriter: through a symbolic link, keeping permissions, with 
   fs::create_symlink(fs::path("real") / "data.csv", link);
   write(link, "new\n");
   CHECK(fs::is_symlink(fs::symlink_status(link)));
-  CHECK(slurp_file(target.string()) == "new\n");
+  CHECK(slurp(target.string()) == "new\n");
   // Permission bits stay (a 0600 file became 0644), even read-only ones.
   fs::permissions(target, fs::perms::owner_read | fs::perms::owner_write);
   write(target, "private\n");
@@ -242,11 +237,11 @@ TEST_CASE("AtomicFileWriter: through a symbolic link, keeping permissions, with 
   fs::permissions(target, fs::perms::owner_read);
   write(target, "read-only\n");
   CHECK((fs::status(target).permissions() & fs::perms::all) == fs::perms::owner_read);
-  CHECK(slurp_file(target.string()) == "read-only\n");
+  CHECK(slurp(target.string()) == "read-only\n");
   // A 250-byte name, with no room for the ".partial-PID-N" suffix.
   const fs::path long_name = dir / std::string(250, 'n');
   write(long_name, "long\n");
-  CHECK(slurp_file(long_name.string()) == "long\n");
+  CHECK(slurp(long_name.string()) == "long\n");
   // A loop of links is an error naming the path.
   fs::create_symlink("b", dir / "a");
   fs::create_symlink("a", dir / "b");
@@ -295,7 +290,7 @@ TEST_CASE("AtomicFileWriter: a failed open, rename or sync names the path and le
   CHECK(t.path == target);
   CHECK(t.what == target + ": cannot open for writing: the stream refused the open mode");
   CHECK(names_in(dir) == std::vector<std::string>{"out.txt"});
-  CHECK(slurp_file(target) == "old\ncontent\n");
+  CHECK(slurp(target) == "old\ncontent\n");
 
   // The target is a directory that is not empty: the rename fails. IoError
   // (not WriteError), the directory and its file as they were, no temporary.
@@ -312,7 +307,7 @@ TEST_CASE("AtomicFileWriter: a failed open, rename or sync names the path and le
   CHECK(t.what.rfind(taken.string() + ": cannot move into place: ", 0) == 0);
   CHECK(fs::is_directory(taken));
   CHECK(names_in(taken) == std::vector<std::string>{"inside.txt"});
-  CHECK(slurp_file((taken / "inside.txt").string()) == "inside\n");
+  CHECK(slurp((taken / "inside.txt").string()) == "inside\n");
   CHECK(names_in(dir) == std::vector<std::string>{"out.txt", "taken"});
 
   // The temporary file vanishes before the commit (removed by someone else):
@@ -326,7 +321,7 @@ TEST_CASE("AtomicFileWriter: a failed open, rename or sync names the path and le
   CHECK(t.type == "WriteError");
   CHECK(t.path == target);
   CHECK(t.what == target + ": fsync failed: " + std::strerror(ENOENT));
-  CHECK(slurp_file(target) == "old\ncontent\n");
+  CHECK(slurp(target) == "old\ncontent\n");
   CHECK(names_in(dir) == std::vector<std::string>{"out.txt", "taken"});
 }
 
@@ -358,9 +353,9 @@ TEST_CASE("AtomicFileWriter: when all 1000 temporary names it tries are taken, I
   CHECK(names_in(dir).size() == 1001);
   unsigned intact = 0;
   for (unsigned n = next; n < next + 1000; ++n)
-    intact += slurp_file(stem + std::to_string(n)) == decoy_text(n) ? 1u : 0u;
+    intact += slurp(stem + std::to_string(n)) == decoy_text(n) ? 1u : 0u;
   CHECK(intact == 1000);
-  CHECK(slurp_file(target) == "kept\n");
+  CHECK(slurp(target) == "kept\n");
   // The name after them is free: the next writer takes it.
   {
     AtomicFileWriter w(target);
@@ -368,7 +363,7 @@ TEST_CASE("AtomicFileWriter: when all 1000 temporary names it tries are taken, I
     w.stream() << "new\n";
     w.commit();
   }
-  CHECK(slurp_file(target) == "new\n");
+  CHECK(slurp(target) == "new\n");
   CHECK(names_in(dir).size() == 1001);
 }
 

@@ -46,14 +46,20 @@ std::string writer_refusal(const Dataset& d) {
   return "accepted";
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+using iclap::test::slurp;
+using iclap::test::spit;
 
-void spit(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
+/// The 1 x 2 frame the appender cases append: object "b", exploration 4,
+/// frame 1, at (1, 2, 3), pressures 5 and 6.
+Frame appended_frame() {
+  Frame f;
+  f.object = "b";
+  f.exploration = 4;
+  f.frame = 1;
+  f.position = {1, 2, 3};
+  f.pressures.resize(1, 2);
+  f.pressures << 5, 6;
+  return f;
 }
 
 Dataset read_text(const std::string& text, std::vector<DatasetWarning>* warnings = nullptr) {
@@ -610,13 +616,7 @@ TEST_CASE("dataset csv appender: foreign column order and an empty file") {
   TempDir dir("data_appender2");
   const std::string path = dir.file("foreign.csv");
   spit(path, "\xEF\xBB\xBF# exported\r\nz,y,x,p0_1,p0_0,frame,exploration,object\r\n0.3,0.2,0.1,2,1,0,0,a\r\n");
-  Frame f;
-  f.object = "b";
-  f.exploration = 4;
-  f.frame = 1;
-  f.position = {1, 2, 3};
-  f.pressures.resize(1, 2);
-  f.pressures << 5, 6;
+  const Frame f = appended_frame();
   {
     iclap::DatasetCsvAppender app(path, 1, 2, false, false);
     CHECK(app.rows_in_file() == 1);
@@ -644,4 +644,20 @@ TEST_CASE("dataset csv appender: foreign column order and an empty file") {
   const std::string headless = dir.file("headless.csv");
   spit(headless, "# a\n# b\n");
   CHECK_THROWS_AS(iclap::DatasetCsvAppender(headless, 1, 2, false, false), iclap::ParseError);
+}
+
+TEST_CASE("dataset csv appender: an existing file that ends with its header, without a line break, gets one first") {
+  TempDir dir("data_appender_header_only");
+  const std::string path = dir.file("header.csv");
+  spit(path, "# c\nobject,exploration,frame,x,y,z,p0_0,p0_1");
+  const Frame f = appended_frame();
+  {
+    iclap::DatasetCsvAppender app(path, 1, 2, false, false);
+    CHECK(app.rows_in_file() == 0);
+    CHECK(app.recovered_bytes() == 0);
+    app.append(f);
+  }
+  // Not "...,p0_1b,4,1,...": the row on a line of its own.
+  CHECK(slurp(path) == "# c\nobject,exploration,frame,x,y,z,p0_0,p0_1\nb,4,1,1,2,3,5,6\n");
+  CHECK(iclap::read_dataset_csv(path).frames.size() == 1);
 }

@@ -3,11 +3,13 @@
 
 // Scratch directories for tests, and a check that an all-or-nothing writer
 // (AtomicFileWriter) left no temporary file (`PATH.partial-...`) beside its
-// target.
+// target; and the whole of a file as bytes, read or written.
 
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <system_error>
 
@@ -31,6 +33,18 @@ struct TempDir {
   }
   std::string file(const std::string& name) const { return (path / name).string(); }
 };
+
+/// Every byte of the file at `path` ("" when it cannot be opened).
+inline std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// Replaces the file at `path` with exactly `text`.
+inline void spit(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
 
 inline bool temporary_left_beside(const std::string& path) {
   const std::filesystem::path p(path);
