@@ -665,3 +665,35 @@ TEST_CASE("SimFrameSource: the frames of simulate_exploration, optionally paced 
   settings.explorations = 0;
   CHECK_THROWS_AS(SimFrameSource(object, settings, 3, 0), iclap::InvalidArgument);
 }
+
+TEST_CASE("SimFrameSource: exploration 0 is valid; real time runs from the first next(), a short timeout never waits longer") {
+  const iclap::SimObject object = iclap::builtin_object("scissors");
+  iclap::SimulationSettings settings;
+  settings.exploration.max_frames_mean = 12;
+  const auto first = iclap::simulate_exploration(object, settings, 3, 0);
+  REQUIRE_FALSE(first.empty());
+  SimFrameSource zero(object, settings, 3, 0);
+  PosedFrame pf;
+  REQUIRE(zero.next(pf, 0ms) == FrameSource::Status::kFrame);
+  CHECK(pf.pressures == first[0].pressures);
+
+  // Frames 1..3 are due (t_k - t_0) after the first next(), not after each
+  // call: reading them back to back takes t_3 - t_0 (0.6 s), not the sum.
+  const auto expected = iclap::simulate_exploration(object, settings, 3, 4);
+  REQUIRE(expected.size() >= 4);
+  const double span = *expected[3].time - *expected[0].time;
+  SimFrameSource paced(object, settings, 3, 4, SimFrameSource::Settings{true});
+  REQUIRE(paced.next(pf, 0ms) == FrameSource::Status::kFrame);  // simulates, then starts the clock
+  const auto start = std::chrono::steady_clock::now();
+  for (int k = 1; k <= 3; ++k) REQUIRE(paced.next(pf, 1000ms) == FrameSource::Status::kFrame);
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  CHECK(took >= span * 0.8);
+  CHECK(took < span + 0.3);
+  CHECK(pf.time == expected[3].time);
+
+  // Frame 1 is due 0.2 s after the first: a 150 ms timeout returns kTimeout
+  // instead of waiting for it.
+  SimFrameSource short_wait(object, settings, 3, 4, SimFrameSource::Settings{true});
+  REQUIRE(short_wait.next(pf, 0ms) == FrameSource::Status::kFrame);
+  CHECK(short_wait.next(pf, 150ms) == FrameSource::Status::kTimeout);
+}
