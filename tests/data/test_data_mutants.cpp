@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "iclap/data/data.hpp"
+#include "data_test_util.hpp"
 #include "../support/errors.hpp"
 #include "../support/file_size_limit.hpp"
 #include "../support/temporaries.hpp"
@@ -24,6 +25,7 @@ namespace {
 using iclap::Dataset;
 using iclap::Frame;
 using iclap::test::TempDir;
+using iclap::test::writer_refusal;
 
 using iclap::test::slurp;
 using iclap::test::spit;
@@ -47,15 +49,6 @@ Dataset small_dataset(std::size_t n, bool time, bool orientation) {
     ds.frames.push_back(f);
   }
   return ds;
-}
-
-// "argument: reason" of the InvalidArgument writing `d` to a stream throws,
-// or "(no error)"; a refused dataset writes nothing.
-std::string writer_refusal(const Dataset& d) {
-  std::ostringstream out;
-  const std::string what = iclap::test::what_of([&] { iclap::write_dataset_csv(out, d); });
-  CHECK(out.str().empty() == (what != "(no error)"));
-  return what;
 }
 
 // The ParseError reading `text` throws, as "LINE: reason", or "(no error)".
