@@ -12,6 +12,9 @@
 
 #include "iclap/mesh/load.hpp"
 #include "iclap/mesh/triangle_mesh.hpp"
+#include "mesh_test_util.hpp"
+
+using iclap::test::parse_outcome;
 
 namespace {
 
@@ -91,13 +94,7 @@ TEST_CASE("mesh io: malformed files are rejected with their location") {
 
 TEST_CASE("mesh io: more malformed input, from streams") {
   auto obj_error = [](const std::string& text) {
-    std::istringstream in(text);
-    try {
-      iclap::load_obj(in, "s.obj");
-    } catch (const iclap::ParseError& e) {
-      return std::to_string(e.line()) + ": " + e.reason();
-    }
-    return std::string("accepted");
+    return parse_outcome([](std::istream& in, const std::string& n) { return iclap::load_obj(in, n); }, text, "s.obj");
   };
   CHECK(obj_error("v 0 0 0\nf 0 1 1\n") == "2: face vertex index 0 (OBJ indices start at 1)");
   CHECK(obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n").rfind("4: relative face vertex index -4", 0) == 0);
@@ -108,13 +105,7 @@ TEST_CASE("mesh io: more malformed input, from streams") {
   CHECK(obj_error("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n") == "accepted");
 
   auto stl_error = [](const std::string& text) {
-    std::istringstream in(text);
-    try {
-      iclap::load_stl(in, "s.stl");
-    } catch (const iclap::ParseError& e) {
-      return std::to_string(e.line()) + ": " + e.reason();
-    }
-    return std::string("accepted");
+    return parse_outcome([](std::istream& in, const std::string& n) { return iclap::load_stl(in, n); }, text, "s.stl");
   };
   CHECK(stl_error("solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid a\n")
             .rfind("3: facet loop has 2 vertices", 0) == 0);
@@ -127,13 +118,7 @@ TEST_CASE("mesh io: more malformed input, from streams") {
   CHECK(stl_error("hello").rfind("0: not an STL file", 0) == 0);
 
   auto ply_error = [](const std::string& text) {
-    std::istringstream in(text);
-    try {
-      iclap::load_ply(in, "s.ply");
-    } catch (const iclap::ParseError& e) {
-      return std::to_string(e.line()) + ": " + e.reason();
-    }
-    return std::string("accepted");
+    return parse_outcome([](std::istream& in, const std::string& n) { return iclap::load_ply(in, n); }, text, "s.ply");
   };
   const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
   CHECK(ply_error("plx\n").rfind("1: not a PLY file", 0) == 0);
@@ -164,17 +149,8 @@ TEST_CASE("mesh io: more malformed input, from streams") {
 }
 
 TEST_CASE("mesh io: ASCII STL and PLY header lines hold what their syntax allows, no more") {
-  auto error = [](auto load, const std::string& text, const std::string& name) {
-    std::istringstream in(text);
-    try {
-      load(in, name);
-    } catch (const iclap::ParseError& e) {
-      return std::to_string(e.line()) + ": " + e.reason();
-    }
-    return std::string("accepted");
-  };
   auto stl = [&](const std::string& normal, const std::string& vertex, const std::string& tail = "") {
-    return error([](std::istream& in, const std::string& n) { return iclap::load_stl(in, n); },
+    return parse_outcome([](std::istream& in, const std::string& n) { return iclap::load_stl(in, n); },
                  "solid a\nfacet normal " + normal + "\nouter loop" + tail + "\nvertex " + vertex +
                      "\nvertex 1 0 0\nvertex 0 1 0\nendloop" + tail + "\nendfacet" + tail + "\nendsolid a\n",
                  "s.stl");
@@ -190,7 +166,7 @@ TEST_CASE("mesh io: ASCII STL and PLY header lines hold what their syntax allows
   CHECK(stl("2.#IND 0 0", "0 0 0") == "2: facet normal component '2.#IND' is not a number");
   CHECK(stl("0 0", "0 0 0") == "2: facet normal needs three components");
   CHECK(stl("0 0 1 7", "0 0 0") == "2: unexpected '7' after the facet normal");
-  CHECK(error([](std::istream& in, const std::string& n) { return iclap::load_stl(in, n); },
+  CHECK(parse_outcome([](std::istream& in, const std::string& n) { return iclap::load_stl(in, n); },
               "solid a\nfacet\nouter loop\n", "s.stl") == "2: expected 'facet normal NX NY NZ'");
   // Junk after the three coordinates used to be dropped silently.
   CHECK(stl("0 0 1", "0 0 0 junk") == "4: unexpected 'junk' after the vertex's three coordinates");
@@ -198,7 +174,7 @@ TEST_CASE("mesh io: ASCII STL and PLY header lines hold what their syntax allows
   CHECK(stl("0 0 1", "0 0 0", " x") == "3: unexpected 'x' after 'outer loop'");
 
   auto ply = [&](const std::string& text) {
-    return error([](std::istream& in, const std::string& n) { return iclap::load_ply(in, n); }, text, "s.ply");
+    return parse_outcome([](std::istream& in, const std::string& n) { return iclap::load_ply(in, n); }, text, "s.ply");
   };
   const std::string body = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   auto header = [](const std::string& format, const std::string& vertex, const std::string& x, const std::string& end) {

@@ -14,32 +14,21 @@
 #include <string>
 
 #include "iclap/mesh/load.hpp"
+#include "mesh_test_util.hpp"
 #include "../support/errors.hpp"
 
 namespace {
 
-// "LINE: reason" of the ParseError that `load` throws for `text` (checking
-// it names `name`), or "accepted".
-template <typename Load>
-std::string outcome(Load load, const std::string& text, const std::string& name) {
-  std::istringstream in(text);
-  try {
-    load(in, name);
-  } catch (const iclap::ParseError& e) {
-    CHECK(e.file() == name);
-    return std::to_string(e.line()) + ": " + e.reason();
-  }
-  return "accepted";
-}
+using iclap::test::parse_outcome;
 
 std::string obj(const std::string& text) {
-  return outcome([](std::istream& in, const std::string& n) { return iclap::load_obj(in, n); }, text, "m.obj");
+  return parse_outcome([](std::istream& in, const std::string& n) { return iclap::load_obj(in, n); }, text, "m.obj");
 }
 std::string stl(const std::string& text) {
-  return outcome([](std::istream& in, const std::string& n) { return iclap::load_stl(in, n); }, text, "m.stl");
+  return parse_outcome([](std::istream& in, const std::string& n) { return iclap::load_stl(in, n); }, text, "m.stl");
 }
 std::string ply(const std::string& text) {
-  return outcome([](std::istream& in, const std::string& n) { return iclap::read_ply(in, n); }, text, "m.ply");
+  return parse_outcome([](std::istream& in, const std::string& n) { return iclap::read_ply(in, n); }, text, "m.ply");
 }
 
 template <typename T>
