@@ -54,6 +54,25 @@ class PtyPort {
   /// True when everything queued has been written.
   bool drained() const { return out_.empty(); }
 
+  /// Bytes written to the host that it has not read yet (what the slave's
+  /// line discipline holds); -1 if that cannot be asked.
+  int unread_by_host() const {
+    int pending = 0;
+    return ::ioctl(slave_, FIONREAD, &pending) == 0 ? pending : -1;
+  }
+
+  /// Waits up to `patience` until the host has at least `bytes` unread.
+  bool wait_unread_by_host(int bytes, std::chrono::milliseconds patience) const {
+    const auto deadline = std::chrono::steady_clock::now() + patience;
+    for (;;) {
+      const int pending = unread_by_host();
+      if (pending < 0) return false;
+      if (pending >= bytes) return true;
+      if (std::chrono::steady_clock::now() >= deadline) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+  }
+
   /// Up to `size` bytes the host wrote, waiting at most `wait`; 0 if none.
   std::size_t read(std::uint8_t* buffer, std::size_t size, std::chrono::milliseconds wait) {
     if (master_ < 0) return 0;
@@ -89,9 +108,8 @@ class PtyPort {
   void unplug(F&& before_close) {
     flush(std::chrono::milliseconds(2000));
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-    int pending = 1;
     while (std::chrono::steady_clock::now() < deadline) {
-      if (::ioctl(slave_, FIONREAD, &pending) != 0 || pending == 0) break;
+      if (unread_by_host() <= 0) break;
       std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(30));

@@ -8,7 +8,6 @@
 #include <doctest/doctest.h>
 
 #include <fcntl.h>
-#include <sys/ioctl.h>
 #include <sys/wait.h>
 #include <termios.h>
 #include <unistd.h>
@@ -19,7 +18,6 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "iclap/rig/serial_enumeration.hpp"
@@ -42,20 +40,6 @@ std::size_t open_descriptors() {
     ++n;
   }
   return n;
-}
-
-// Waits until the slave side of `path` holds at least `bytes` unread input
-// bytes (what the master wrote has reached the line discipline).
-bool wait_for_input(const std::string& path, int bytes) {
-  const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return false;
-  int pending = 0;
-  for (int i = 0; i < 500 && pending < bytes; ++i) {
-    if (::ioctl(fd, FIONREAD, &pending) != 0) break;
-    if (pending < bytes) std::this_thread::sleep_for(2ms);
-  }
-  ::close(fd);
-  return pending >= bytes;
 }
 
 const std::vector<std::uint8_t> kCrLf{'a', '\r', '\n', 0x03, 0x11};
@@ -128,7 +112,7 @@ TEST_CASE("SerialPort: input waiting from before the open is discarded") {
   PtyPort pty;
   pty.queue(std::vector<std::uint8_t>{'s', 't', 'a', 'l', 'e'});
   pty.flush(1000ms);
-  REQUIRE(wait_for_input(pty.path(), 5));
+  REQUIRE(pty.wait_unread_by_host(5, 1000ms));
   SerialPort port(pty.path());
   std::uint8_t buf[16];
   CHECK(port.read(buf, sizeof buf, 100ms) == 0);
@@ -146,7 +130,7 @@ TEST_CASE("SerialPort: a zero-capacity read returns 0 even with input waiting, a
   SerialPort port(pty.path());
   pty.queue(std::vector<std::uint8_t>{1, 2, 3});
   pty.flush(1000ms);
-  REQUIRE(wait_for_input(pty.path(), 3));
+  REQUIRE(pty.wait_unread_by_host(3, 1000ms));
   std::uint8_t buf[8] = {};
   CHECK(port.read(buf, 0, 100ms) == 0);
   CHECK(port.read(buf, sizeof buf, 100ms) == 3);
