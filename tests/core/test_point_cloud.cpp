@@ -19,6 +19,7 @@
 #include "../support/errors.hpp"
 
 using iclap::test::argument_of;
+using iclap::test::what_of;
 
 namespace {
 
@@ -34,6 +35,12 @@ using Touches = std::vector<Touch>;
 struct Rows {
   std::vector<std::vector<double>> rows;
   Eigen::Index dim;
+};
+
+// A container that reports whatever size and dimension it is given (a
+// user's traits gone wrong), every coordinate 0.
+struct Claimed {
+  Eigen::Index size, dim;
 };
 
 }  // namespace
@@ -55,6 +62,13 @@ struct iclap::PointCloudTraits<Rows> {
   static double coordinate(const Rows& c, iclap::Index i, iclap::Index k) {
     return c.rows[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
   }
+};
+
+template <>
+struct iclap::PointCloudTraits<Claimed> {
+  static iclap::Index size(const Claimed& c) { return c.size; }
+  static iclap::Index dimension(const Claimed& c) { return c.dim; }
+  static double coordinate(const Claimed&, iclap::Index, iclap::Index) { return 0; }
 };
 
 namespace {
@@ -166,6 +180,20 @@ TEST_CASE("bad clouds are refused, naming the argument, the point and the coordi
   const Rows negative{{}, -1};
   CHECK_THROWS_WITH_AS(iclap::to_cloud<double>(negative, "points"), doctest::Contains("negative dimension"),
                        iclap::InvalidArgument);
+  // A negative size, even -1, is refused naming the argument and the size.
+  CHECK(what_of([] { iclap::to_cloud<double>(Claimed{-1, 3}, "points"); }) == "points: has a negative size (-1)");
+  CHECK(what_of([] { iclap::to_cloud<double>(Claimed{2, -1}, "points"); }) ==
+        "points: has a negative dimension (-1)");
+  CHECK(iclap::to_cloud<double>(Claimed{0, 0}).size() == 0);
+  // The first point that differs from point 0 is named, also point 1 and
+  // the last one.
+  for (std::size_t bad_at : {1u, 3u}) {
+    CAPTURE(bad_at);
+    std::vector<Eigen::VectorXd> uneven(4, Eigen::Vector3d(1, 2, 3));
+    uneven[bad_at] = Eigen::Vector4d(1, 2, 3, 4);
+    CHECK(argument_of([&] { iclap::to_cloud<double>(uneven, "touches"); }) ==
+          "touches[" + std::to_string(bad_at) + "]");
+  }
   // The registration's entry points name their own argument.
   try {
     const iclap::ReferenceCloud<double, 4> r(Touches{});
