@@ -1,0 +1,257 @@
+// SPDX-License-Identifier: MIT
+// Behaviour a mutation-testing pass over include/iclap/core found unpinned:
+// each case fails for at least one single-site change of the library (the
+// strictness of check_positive / check_non_negative and the argument and
+// value they name, check_not_empty's two reasons, smallest_spread, the
+// location check_coordinate_range names, ParseError's line, the bytes
+// quote_text escapes and where it cuts, parallel_for's thread count for
+// threads = 1, its worker ids and its stop after a failure, the generator's
+// published seeding and output function, derive's use of every id, the
+// modulo bias of below(), normal(mean, sigma), and append_utf8 at every
+// boundary of the encoding).
+
+#include <doctest/doctest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "iclap/core/check.hpp"
+#include "iclap/core/error.hpp"
+#include "iclap/core/parallel.hpp"
+#include "iclap/core/random.hpp"
+#include "iclap/core/utf8.hpp"
+#include "../support/errors.hpp"
+
+using namespace iclap;
+using iclap::test::what_of;
+
+TEST_CASE("check_positive and check_non_negative: the boundary, infinities and NaN, the argument and the value") {
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double tiny = std::numeric_limits<double>::denorm_min();
+  // 0 is the boundary: refused as positive, taken as non-negative.
+  CHECK(what_of([] { check_positive(0.0, "settings.voxel"); }) ==
+        "settings.voxel: must be finite and positive, got 0");
+  CHECK(what_of([] { check_non_negative(0.0, "settings.margin"); }) == "(no error)");
+  CHECK(what_of([&] { check_positive(tiny, "settings.voxel"); }) == "(no error)");
+  CHECK(what_of([&] { check_non_negative(tiny, "settings.margin"); }) == "(no error)");
+  // Infinities and NaN are refused by both; the value is written by
+  // format_value (6 significant digits, never 0.000000 for a tiny one).
+  for (const double v : {inf, -inf, nan}) {
+    CAPTURE(v);
+    CHECK(what_of([&] { check_positive(v, "p"); }) == "p: must be finite and positive, got " + format_value(v));
+    CHECK(what_of([&] { check_non_negative(v, "n"); }) == "n: must be finite and >= 0, got " + format_value(v));
+  }
+  CHECK(what_of([] { check_positive(-2.5, "sigma"); }) == "sigma: must be finite and positive, got -2.5");
+  CHECK(what_of([] { check_non_negative(-1e-310, "margin"); }) == "margin: must be finite and >= 0, got -1e-310");
+  CHECK(what_of([] { check_non_negative(-0.0, "margin"); }) == "(no error)");  // -0 == 0
+}
+
+TEST_CASE("check_not_empty tells no points from dimension 0; check_coordinate_range names row and column") {
+  CHECK(what_of<EmptyInput>([] { check_not_empty(Eigen::MatrixXd(3, 0), "model"); }) == "model: has no points");
+  CHECK(what_of<EmptyInput>([] { check_not_empty(Eigen::MatrixXd(0, 5), "model"); }) == "model: has dimension 0");
+  CHECK(what_of<EmptyInput>([] { check_not_empty(Eigen::MatrixXd(1, 1), "model"); }) == "(no error)");
+  // The offending coefficient off the diagonal, so that row and column
+  // cannot be confused; the float range is named for a float registration.
+  Eigen::MatrixXf m = Eigen::MatrixXf::Zero(3, 4);
+  m(1, 2) = 1e20f;
+  const std::string w = what_of([&] { check_coordinate_range<float>(m, "test"); });
+  CHECK(w.rfind("test: value 1e+20 at row 1, column 2 is beyond the float range of distances (|v| <= 1.84467e+15)",
+                0) == 0);
+  m(1, 2) = 1e15f;  // inside
+  CHECK(what_of([&] { check_coordinate_range<float>(m, "test"); }) == "(no error)");
+}
+
+TEST_CASE_TEMPLATE("smallest_spread and largest_coordinate: the documented values; squares at the smallest spread",
+                   Scalar, float, double) {
+  const bool is_float = std::is_same_v<Scalar, float>;
+  // The values the header documents.
+  CHECK(smallest_spread<Scalar>() == doctest::Approx(is_float ? 9.1e-13 : 6.7e-139).epsilon(0.01));
+  CHECK(format_value(largest_coordinate<Scalar>()) == (is_float ? "1.84467e+15" : "1.34078e+150"));
+  // At the smallest spread, a difference of one part in epsilon squares to
+  // a normal number (not a subnormal or 0), and it is the smallest that
+  // does: at a tenth of it the square is below the normal range.
+  const Scalar eps = std::numeric_limits<Scalar>::epsilon();
+  const Scalar d = static_cast<Scalar>(smallest_spread<Scalar>()) * eps;
+  CHECK(std::isnormal(d * d));
+  CHECK_FALSE(std::isnormal((d / 10) * (d / 10)));
+}
+
+TEST_CASE("ParseError keeps file, 1-based line and reason apart") {
+  const ParseError e("touches.csv", 7, "negative pressure");
+  CHECK(e.file() == "touches.csv");
+  CHECK(e.line() == 7);
+  CHECK(e.reason() == "negative pressure");
+  CHECK(std::string(e.what()) == "touches.csv:7: negative pressure");
+  CHECK(ParseError("mesh.obj", 0, "no faces").line() == 0);  // the whole file
+}
+
+TEST_CASE("quote_text escapes exactly the control bytes, as two lowercase hex digits, and cuts between characters") {
+  // Every byte alone: escaped as \xNN when below 0x20 or 0x7f, kept otherwise
+  // (space and UTF-8 bytes included).
+  int escaped = 0;
+  for (int b = 0; b < 256; ++b) {
+    CAPTURE(b);
+    const std::string one(1, static_cast<char>(b));
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "\\x%02x", b);
+    const bool control = b < 0x20 || b == 0x7f;
+    CHECK(is_control_byte(static_cast<unsigned char>(b)) == control);
+    CHECK(quote_text(one) == (control ? "'" + std::string(hex) + "'" : "'" + one + "'"));
+    escaped += control;
+  }
+  CHECK(escaped == 33);
+  CHECK(quote_text("jaw width") == "'jaw width'");
+  // A cut that falls on a character boundary keeps every whole character
+  // before it, multi-byte ones included.
+  CHECK(quote_text("ab\xc3\xbc", 2) == "'ab...'");
+  CHECK(quote_text("\xc3\xbc" "ab", 2) == "'\xc3\xbc...'");
+  CHECK(quote_text("a\xe2\x82\xac" "b", 4) == "'a\xe2\x82\xac...'");
+  CHECK(quote_text("a\xe2\x82\xac" "b", 3) == "'a...'");  // inside the euro sign: before it
+  CHECK(quote_text("\xf0\x9f\x98\x80", 4) == "'\xf0\x9f\x98\x80'");  // not longer: not cut
+}
+
+TEST_CASE("parallel_for: threads = 1 runs on the caller; one thread per worker id; no new item after a failure") {
+  // threads = 1 is one thread whatever the machine: the calling one.
+  CHECK(detail::worker_count(1, 1000) == 1);
+  const std::thread::id caller = std::this_thread::get_id();
+  int elsewhere = 0;  // only written if items run on another thread
+  std::vector<unsigned> workers;
+  detail::parallel_for(200, 1, [&](std::size_t, unsigned worker) {
+    if (std::this_thread::get_id() != caller) ++elsewhere;
+    workers.push_back(worker);
+  });
+  CHECK(elsewhere == 0);
+  CHECK(workers == std::vector<unsigned>(200, 0u));
+
+  // Each worker id belongs to one thread, and each thread has one id, so
+  // per-worker state indexed by it is never shared. The items sleep so that
+  // every thread takes some.
+  for (unsigned threads : {2u, 4u}) {
+    CAPTURE(threads);
+    std::mutex m;
+    std::map<unsigned, std::set<std::thread::id>> threads_of;
+    std::map<std::thread::id, std::set<unsigned>> ids_of;
+    detail::parallel_for(16 * threads, threads, [&](std::size_t, unsigned worker) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      const std::lock_guard<std::mutex> lock(m);
+      threads_of[worker].insert(std::this_thread::get_id());
+      ids_of[std::this_thread::get_id()].insert(worker);
+    });
+    CHECK(threads_of.size() == threads);
+    CHECK(ids_of.size() == threads);
+    for (const auto& entry : threads_of) CHECK(entry.second.size() == 1);
+    for (const auto& entry : ids_of) CHECK(entry.second.size() == 1);
+  }
+
+  // After the first failure no new item starts: of a million cheap items,
+  // the other thread runs at most those it took before the failure was
+  // recorded, not the rest.
+  const std::size_t n = 1000000;
+  std::atomic<std::size_t> ran{0};
+  CHECK_THROWS_WITH_AS(detail::parallel_for(n, 2,
+                                            [&](std::size_t i, unsigned) {
+                                              ++ran;
+                                              if (i == 0) throw std::runtime_error("item 0");
+                                            }),
+                       "item 0", std::runtime_error);
+  CHECK(ran.load() < n / 2);
+}
+
+namespace {
+/// Rotation left by k bits, as xoshiro256** defines it.
+std::uint64_t rotl64(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+}  // namespace
+
+TEST_CASE("Rng: splitmix64 seeding and the xoshiro256** output function, as published") {
+  // splitmix64 from 1234567 gives 6457827717110365317, 3203168211198807973,
+  // 9817491932198370423, 4593380528125082431 (the published test vector);
+  // these are the state s[0..3] of Rng(1234567), whose first output is
+  // xoshiro256**'s rotl(s[1] * 5, 7) * 9.
+  const std::uint64_t s1 = 3203168211198807973ull;
+  Rng rng(1234567);
+  CHECK(rng() == rotl64(s1 * 5, 7) * 9);
+  // splitmix64 from 0 starts with 0xe220a8397b1dcdaf (s[0]); s[1] is its
+  // second output, 0x6e789e6aa1b965f4.
+  CHECK(Rng(0)() == rotl64(0x6e789e6aa1b965f4ull * 5, 7) * 9);
+}
+
+TEST_CASE("Rng::derive: the seed, the stream and the substream each select the stream") {
+  // All 27 streams of seeds, streams and substreams 0..2 start differently.
+  std::set<std::uint64_t> firsts;
+  for (std::uint64_t seed = 0; seed < 3; ++seed)
+    for (std::uint64_t stream = 0; stream < 3; ++stream)
+      for (std::uint64_t sub = 0; sub < 3; ++sub) firsts.insert(Rng::derive(seed, stream, sub)());
+  CHECK(firsts.size() == 27);
+  CHECK(Rng::derive(9, 4)() == Rng::derive(9, 4, 0)());  // substream 0 by default
+}
+
+TEST_CASE("Rng::below has no modulo bias, also for n near the top of the range; normal(mean, sigma)") {
+  // n = 3 * 2^62: r % n of a plain 64-bit draw would land below 2^62 half
+  // the time; unbiased, a third of the time.
+  Rng rng(17);
+  const std::uint64_t n = 3ull << 62;
+  const int draws = 30000;
+  int low = 0;
+  for (int i = 0; i < draws; ++i) {
+    const std::uint64_t r = rng.below(n);
+    REQUIRE(r < n);
+    low += r < (1ull << 62);
+  }
+  CHECK(std::abs(low / double(draws) - 1.0 / 3) < 0.02);  // 0.02 is ~7 standard deviations
+  // normal(mean, sigma): mean and spread where they are asked for.
+  double sum = 0, sum2 = 0;
+  const int count = 100000;
+  for (int i = 0; i < count; ++i) {
+    const double z = rng.normal(10.0, 0.5);
+    sum += z;
+    sum2 += (z - 10.0) * (z - 10.0);
+  }
+  CHECK(sum / count == doctest::Approx(10.0).epsilon(0.001));
+  CHECK(std::sqrt(sum2 / count) == doctest::Approx(0.5).epsilon(0.02));
+}
+
+TEST_CASE("append_utf8: one to four bytes, with the right bytes at every boundary of the encoding") {
+  // (code point, its UTF-8 encoding per RFC 3629)
+  const std::vector<std::pair<std::uint32_t, std::string>> cases = {
+      {0x00, std::string(1, '\0')},
+      {0x41, "A"},
+      {0x7F, "\x7f"},
+      {0x80, "\xc2\x80"},
+      {0xE9, "\xc3\xa9"},
+      {0x7FF, "\xdf\xbf"},
+      {0x800, "\xe0\xa0\x80"},
+      {0x20AC, "\xe2\x82\xac"},
+      {0xD7FF, "\xed\x9f\xbf"},  // below the surrogates
+      {0xE000, "\xee\x80\x80"},  // above them
+      {0xFFFD, "\xef\xbf\xbd"},
+      {0xFFFF, "\xef\xbf\xbf"},
+      {0x10000, "\xf0\x90\x80\x80"},
+      {0x1F600, "\xf0\x9f\x98\x80"},
+      {0x10FFFF, "\xf4\x8f\xbf\xbf"},
+  };
+  std::string all;
+  for (const auto& c : cases) {
+    CAPTURE(c.first);
+    std::string out = "x";  // appended to, not replaced
+    append_utf8(out, c.first);
+    CHECK(out == "x" + c.second);
+    all += c.second;
+  }
+  std::string together;
+  for (const auto& c : cases) append_utf8(together, c.first);
+  CHECK(together == all);
+}
