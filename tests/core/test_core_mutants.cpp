@@ -14,6 +14,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -124,8 +125,7 @@ TEST_CASE("quote_text escapes exactly the control bytes, as two lowercase hex di
   CHECK(quote_text("\xf0\x9f\x98\x80", 4) == "'\xf0\x9f\x98\x80'");  // not longer: not cut
 }
 
-TEST_CASE("parallel_for: threads = 1 runs on the caller; one thread per worker id; no new item after a failure") {
-  // threads = 1 is one thread whatever the machine: the calling one.
+TEST_CASE("parallel_for: threads = 1 is one thread whatever the machine, the calling one") {
   CHECK(detail::worker_count(1, 1000) == 1);
   const std::thread::id caller = std::this_thread::get_id();
   int elsewhere = 0;  // only written if items run on another thread
@@ -136,36 +136,63 @@ TEST_CASE("parallel_for: threads = 1 runs on the caller; one thread per worker i
   });
   CHECK(elsewhere == 0);
   CHECK(workers == std::vector<unsigned>(200, 0u));
+}
 
-  // Each worker id belongs to one thread, and each thread has one id, so
-  // per-worker state indexed by it is never shared. The items sleep so that
-  // every thread takes some.
+TEST_CASE("parallel_for: each worker id belongs to one thread, each thread has one id") {
+  // So per-worker state indexed by it is never shared. As many items as
+  // threads, each waiting until all have started: every thread takes one.
   for (unsigned threads : {2u, 4u}) {
     CAPTURE(threads);
     std::mutex m;
+    std::condition_variable all_in;
+    unsigned started = 0;
+    bool waited_in_vain = false;
     std::map<unsigned, std::set<std::thread::id>> threads_of;
     std::map<std::thread::id, std::set<unsigned>> ids_of;
-    detail::parallel_for(16 * threads, threads, [&](std::size_t, unsigned worker) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-      const std::lock_guard<std::mutex> lock(m);
+    detail::parallel_for(threads, threads, [&](std::size_t, unsigned worker) {
+      std::unique_lock<std::mutex> lock(m);
       threads_of[worker].insert(std::this_thread::get_id());
       ids_of[std::this_thread::get_id()].insert(worker);
+      ++started;
+      all_in.notify_all();
+      if (!all_in.wait_for(lock, std::chrono::seconds(10), [&] { return started == threads; })) waited_in_vain = true;
     });
+    CHECK_FALSE(waited_in_vain);
     CHECK(threads_of.size() == threads);
     CHECK(ids_of.size() == threads);
     for (const auto& entry : threads_of) CHECK(entry.second.size() == 1);
     for (const auto& entry : ids_of) CHECK(entry.second.size() == 1);
   }
+  // No more threads than worker_count: with one item more than threads,
+  // each item waiting (up to 300 ms) for all to have started, a thread
+  // beyond them would take the extra item, with an id past the last.
+  const unsigned threads = 2;
+  std::mutex m;
+  std::condition_variable all_in;
+  unsigned started = 0;
+  std::set<unsigned> ids;
+  detail::parallel_for(threads + 1, threads, [&](std::size_t, unsigned worker) {
+    std::unique_lock<std::mutex> lock(m);
+    ids.insert(worker);
+    ++started;
+    all_in.notify_all();
+    all_in.wait_for(lock, std::chrono::milliseconds(300), [&] { return started == threads + 1; });
+  });
+  CHECK(ids == std::set<unsigned>{0, 1});
+}
 
-  // After the first failure no new item starts: of a million cheap items,
-  // the other thread runs at most those it took before the failure was
+TEST_CASE("parallel_for: after the first failure no new item starts") {
+  // The other thread runs at most the items it took before the failure was
   // recorded, not the rest.
-  const std::size_t n = 1000000;
+  // (The items sleep so that the rest would take a second or more: a thread
+  // descheduled for a moment does not make the count look like the rest.)
+  const std::size_t n = 20000;
   std::atomic<std::size_t> ran{0};
   CHECK_THROWS_WITH_AS(detail::parallel_for(n, 2,
                                             [&](std::size_t i, unsigned) {
                                               ++ran;
                                               if (i == 0) throw std::runtime_error("item 0");
+                                              std::this_thread::sleep_for(std::chrono::microseconds(50));
                                             }),
                        "item 0", std::runtime_error);
   CHECK(ran.load() < n / 2);
