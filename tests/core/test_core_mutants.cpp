@@ -7,7 +7,8 @@
 // quote_text escapes and where it cuts, parallel_for's thread count for
 // threads = 1, its worker ids and its stop after a failure, the generator's
 // published seeding and output function, derive's use of every id, the
-// modulo bias of below(), normal(mean, sigma), and append_utf8 at every
+// modulo bias of below(), normal(mean, sigma), uniform(a, b) where b - a
+// overflows, ProgressCounter's serialised calls, and append_utf8 at every
 // boundary of the encoding).
 
 #include <doctest/doctest.h>
@@ -32,6 +33,7 @@
 #include "iclap/core/check.hpp"
 #include "iclap/core/error.hpp"
 #include "iclap/core/parallel.hpp"
+#include "iclap/core/progress.hpp"
 #include "iclap/core/random.hpp"
 #include "iclap/core/utf8.hpp"
 #include "../support/errors.hpp"
@@ -249,6 +251,45 @@ TEST_CASE("Rng::below has no modulo bias, also for n near the top of the range; 
   }
   CHECK(sum / count == doctest::Approx(10.0).epsilon(0.001));
   CHECK(std::sqrt(sum2 / count) == doctest::Approx(0.5).epsilon(0.02));
+}
+
+TEST_CASE("Rng::uniform(a, b) over an interval wider than double's range is spread over it, not piled at b") {
+  // b - a overflows: the draws must still cover both halves of [a, b).
+  Rng rng(23);
+  const double a = -1e308, b = 1e308;
+  int below_zero = 0;
+  const int draws = 4000;
+  for (int i = 0; i < draws; ++i) {
+    const double u = rng.uniform(a, b);
+    REQUIRE(u >= a);
+    REQUIRE(u < b);
+    below_zero += u < 0;
+  }
+  CHECK(std::abs(below_zero / double(draws) - 0.5) < 0.05);  // ~6 standard deviations
+}
+
+TEST_CASE("ProgressCounter calls its callback one call at a time, from any number of threads") {
+  // The callback notices a second call while it is inside one (it stays a
+  // moment, so that unserialised ticks would overlap) and a done that does
+  // not grow by one.
+  std::atomic<int> inside{0};
+  std::atomic<int> overlaps{0};
+  std::size_t last = 0;
+  int out_of_order = 0;
+  const std::size_t n = 400;
+  ProgressCounter counter(
+      [&](std::size_t done, std::size_t total) {
+        if (++inside != 1) ++overlaps;
+        std::this_thread::sleep_for(std::chrono::microseconds(100));
+        if (done != last + 1 || total != n) ++out_of_order;
+        last = done;
+        --inside;
+      },
+      n);
+  detail::parallel_for(n, 4, [&](std::size_t, unsigned) { counter.tick(); });
+  CHECK(overlaps.load() == 0);
+  CHECK(out_of_order == 0);
+  CHECK(last == n);
 }
 
 TEST_CASE("append_utf8: one to four bytes, with the right bytes at every boundary of the encoding") {
