@@ -13,6 +13,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -125,9 +126,14 @@ TEST_CASE("quote_text escapes exactly the control bytes, as two lowercase hex di
   CHECK(quote_text("a\xe2\x82\xac" "b", 4) == "'a\xe2\x82\xac...'");
   CHECK(quote_text("a\xe2\x82\xac" "b", 3) == "'a...'");  // inside the euro sign: before it
   CHECK(quote_text("\xf0\x9f\x98\x80", 4) == "'\xf0\x9f\x98\x80'");  // not longer: not cut
+  CHECK(quote_text("\xc3\xbc" "b", 1) == "'...'");  // no whole character fits
 }
 
-TEST_CASE("parallel_for: threads = 1 is one thread whatever the machine, the calling one") {
+TEST_CASE("parallel_for: threads = 0 is one per core (at most one per item); 1 is the calling thread alone") {
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  CHECK(detail::worker_count(0, 1000) == std::min(cores, 1000u));
+  CHECK(detail::worker_count(0, 1) == 1);
+  // 1 is one thread whatever the machine: the calling one.
   CHECK(detail::worker_count(1, 1000) == 1);
   const std::thread::id caller = std::this_thread::get_id();
   int elsewhere = 0;  // only written if items run on another thread
