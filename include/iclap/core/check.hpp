@@ -35,9 +35,9 @@ void check_not_empty(const Eigen::DenseBase<Derived>& m, const std::string& argu
 
 /// The largest coordinate magnitude a registration in `Scalar` takes:
 /// 1e-4 of the square root of the type's largest value (1.84467e+15 for
-/// float, 1.34078e+150 for double), so that squared distances, and their
-/// sums over up to 1e8 terms, stay finite. Beyond it a coordinate is a
-/// unit error or corruption (1e300 m cast to float is inf).
+/// float, 1.34078e+150 for double): the squared distance of two points in
+/// range is at most 4e-8 of that value, so sums of up to 2.5e7 of them stay
+/// finite. Beyond it a coordinate is a unit error or corruption (1e300 m).
 template <typename Scalar>
 double largest_coordinate() {
   static_assert(std::numeric_limits<Scalar>::max() <= std::numeric_limits<double>::max(),

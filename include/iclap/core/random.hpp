@@ -7,9 +7,9 @@
 
 namespace iclap {
 
-/// Deterministic random numbers that are the same on every platform and
-/// standard library: xoshiro256** (Blackman and Vigna) seeded through
-/// splitmix64, with its own uniform, integer and normal draws.
+/// Deterministic random numbers, xoshiro256** (Blackman and Vigna) seeded
+/// through splitmix64, with its own uniform, integer and normal draws: the
+/// same on every platform (normal() to the rounding of std::log, std::cos).
 ///
 /// `std::uniform_real_distribution` and `std::normal_distribution` are
 /// implementation-defined, so a seed would not give the same codebook or the
@@ -82,7 +82,9 @@ class Rng {
   }
 
   /// Standard normal N(0, 1) by the Box-Muller transform (one draw per call,
-  /// no cached spare, so the sequence does not depend on call parity).
+  /// no cached spare, so the sequence does not depend on call parity). The C
+  /// library need not round std::log and std::cos correctly: draws may differ
+  /// in their last bits between C libraries, never between runs on one.
   double normal() noexcept {
     const double u1 = 1.0 - uniform();  // (0, 1]: log is finite
     const double u2 = uniform();
