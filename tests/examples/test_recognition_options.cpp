@@ -1,23 +1,26 @@
 // SPDX-License-Identifier: MIT
 // The recognition options of the example programs (examples/iclap/
-// recognition_setup.hpp): lists of the height classifiers' scales become
-// variants that the training folds choose among, each a HeightClassifier
-// with its own scales and name.
+// recognition_setup.hpp): the defaults the usage text gives, the bounds of
+// each option (a bad value refused naming the option and the value as
+// given), --trim, and lists of the height classifiers' and occupancy's
+// settings, which become variants that the training folds choose among
+// (each a classifier with its own settings and name).
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "recognition_setup.hpp"
+#include "usage_errors.hpp"
 
 namespace {
 
 using iclap::cli::Args;
 using iclap::cli::Options;
 using iclap::cli::RecognitionOptions;
-using iclap::cli::UsageError;
 
 RecognitionOptions parsed(const Args& args) {
   const Options o(args, RecognitionOptions::value_options());
@@ -27,12 +30,7 @@ RecognitionOptions parsed(const Args& args) {
 }
 
 std::string usage_error(const Args& args) {
-  try {
-    parsed(args);
-  } catch (const UsageError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return iclap::test::usage_error_of([&] { parsed(args); });
 }
 
 // Four touches of two objects: heights, tilts and contact patches that
@@ -150,4 +148,93 @@ TEST_CASE("bad lists of scales are refused, naming the option and the value") {
   CHECK(usage_error({"--tilt-scale", many, "--contact-scale", many}) ==
         "--tilt-scale and --contact-scale list 17 x 17 = 289 combinations; at most 256 (each is a classifier of its "
         "own)");
+}
+
+TEST_CASE("without options the settings are the defaults the usage text gives") {
+  const RecognitionOptions ro = parsed({});
+  CHECK(ro.descriptor == "sift");
+  CHECK(ro.transform == "planar");
+  CHECK(ro.scalar == "float");
+  CHECK(ro.search == "auto");
+  CHECK(ro.k == 50);
+  CHECK(ro.label_scale == 0.001);
+  CHECK(ro.descriptor_scale == 0.01);
+  CHECK(ro.tilt_scales == std::vector<double>{0.01});
+  CHECK(ro.contact_scales == std::vector<double>{1});
+  CHECK(ro.max_iterations == 50);
+  CHECK(ro.relative_tolerance == 1e-6);
+  CHECK(ro.trim == 1);
+  CHECK_FALSE(ro.trim_auto);
+  CHECK(ro.trim_choices == std::vector<double>{1, 0.7, 0.5, 0.3});
+  CHECK(ro.patch_points == 8);
+  CHECK(ro.patch_voxel == 0.002);
+  CHECK(ro.occupancy_voxel == 0.001);
+  CHECK(ro.occupancy_truncation == 0.003);
+  CHECK(ro.occupancy_free_radius == 0.002);
+  CHECK(ro.occupancy_conflict == 0.3);
+  CHECK(ro.occupancy_unknown == 1);
+  CHECK(ro.occupancy_back == 0);
+  CHECK(ro.occupancy_variants.empty());
+  CHECK(ro.placement_shift == 0.01);
+  CHECK(ro.placement_shift_step == 0.004);
+  CHECK(ro.placement_yaw == doctest::Approx(10 * std::acos(-1.0) / 180));
+  CHECK(ro.placement_yaw_step == doctest::Approx(5 * std::acos(-1.0) / 180));
+}
+
+TEST_CASE("options at their bounds are accepted; beyond them refused, naming the option and the value as given") {
+  const RecognitionOptions ro = parsed({"--k", "1", "--relative-tolerance", "0", "--placement-yaw-deg", "180",
+                                        "--placement-shift", "0", "--occupancy-voxel", "0.00025"});
+  CHECK(ro.k == 1);
+  CHECK(ro.relative_tolerance == 0);
+  CHECK(ro.placement_yaw == std::acos(-1.0));
+  CHECK(ro.placement_shift == 0);
+  CHECK(ro.occupancy_voxel == 0.00025);
+  CHECK(parsed({"--k", "100000"}).k == 100000);
+  CHECK(usage_error({"--k", "0"}) == "--k: 0 is outside [1, 100000]");
+  CHECK(usage_error({"--relative-tolerance", "-1"}) == "--relative-tolerance: -1 is out of range");
+  // The value as given, so that a value just beyond the bound does not read
+  // as the bound.
+  CHECK(usage_error({"--placement-yaw-deg", "180.0000001"}) ==
+        "--placement-yaw-deg must be >= 0 and <= 180 degrees, got 180.0000001");
+  CHECK(usage_error({"--placement-shift-step", "0"}) == "--placement-shift-step must be > 0 and <= 1 metres, got 0");
+  CHECK(usage_error({"--occupancy-unknown", "0.5,1.50"}) == "--occupancy-unknown must be >= 0 and <= 1, got 1.50");
+  CHECK(usage_error({"--occupancy-conflict", "0.3,"}) == "--occupancy-conflict: '' is not a number");
+}
+
+TEST_CASE("--trim: one fraction in (0, 1] for every registration classifier or per name, each given once") {
+  const RecognitionOptions ro = parsed({"--trim", "patch=0.5,icp=auto", "--trim-choices", "0.5,1"});
+  CHECK(ro.trim_of("patch") == 0.5);
+  CHECK(ro.trim_of("iclap") == 1);
+  CHECK(ro.trim_is_auto("icp"));
+  CHECK_FALSE(ro.trim_is_auto("patch"));
+  CHECK(ro.trim_choices == std::vector<double>{0.5, 1});
+  CHECK(parsed({"--trim", "1"}).trim == 1);
+  CHECK(usage_error({"--trim", "0"}) == "--trim 0: the fraction must be in (0, 1]");
+  CHECK(usage_error({"--trim", "patch=0"}) == "--trim patch=0: the fraction must be in (0, 1]");
+  CHECK(usage_error({"--trim", "patch=abc"}) == "--trim patch=abc: 'abc' is not a number");
+  CHECK(usage_error({"--trim", "patch=0.5,patch=0.7"}) == "--trim names 'patch' twice");
+  CHECK(usage_error({"--trim", "0.5,0.7"}) == "--trim gives the fraction of every classifier twice");
+  CHECK(usage_error({"--trim", "bow=0.5"}) ==
+        "--trim bow=0.5: 'bow' is not a registration classifier (icp, iclap, iclapn, patch, iclap_patch)");
+  CHECK(usage_error({"--trim", "auto", "--trim-choices", "1,0"}) == "--trim-choices must be > 0 and <= 1, got 0");
+  CHECK(usage_error({"--trim-choices", "0.5"}) == "--trim-choices needs --trim auto or --trim NAME=auto");
+}
+
+TEST_CASE("lists of settings: up to 256 combinations are variants; a combination the library refuses names its options") {
+  const RecognitionOptions occupancy = parsed({"--occupancy-truncation", "0.002,0.003,0.004,0.005",
+                                               "--occupancy-free-radius", "0.0005,0.001,0.0015,0.002",
+                                               "--occupancy-conflict", "0,0.1,0.3,1", "--occupancy-unknown",
+                                               "0,0.25,0.5,0.75"});
+  CHECK(occupancy.occupancy_variants.size() == 256);
+  std::string sixteen;
+  for (int i = 1; i <= 16; ++i) sixteen += (i > 1 ? "," : "") + std::to_string(i);
+  CHECK(parsed({"--tilt-scale", sixteen, "--contact-scale", sixteen}).chosen_variants("height_contact").size() == 256);
+  // The free radius beyond the truncation: both options with their values,
+  // as given or, from a list, the value of the combination refused.
+  CHECK(usage_error({"--occupancy-truncation", "0.002", "--occupancy-free-radius", "0.0025"}).rfind(
+            "--occupancy-free-radius 0.0025 with --occupancy-truncation 0.002: must be > 0 and at most truncation", 0) ==
+        0);
+  CHECK(usage_error({"--occupancy-truncation", "0.003,0.001"})
+            .rfind("--occupancy-free-radius 0.002 with --occupancy-truncation 0.001: must be > 0 and at most truncation",
+                   0) == 0);
 }
