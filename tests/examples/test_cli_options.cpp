@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli.hpp"
+#include "iclap/search/adaptive.hpp"
 #include "sim_options.hpp"
 #include "touch_counts.hpp"
 #include "usage_errors.hpp"
@@ -84,6 +85,34 @@ TEST_CASE("options: unknown options, missing and empty values are refused, namin
   CHECK(refusal({"--out="}) == "option --out: empty value");
   CHECK(refusal({"--out", ""}) == "option --out: empty value");
   CHECK(refusal({"--k", "1", "--out", "d"}) == "(no error)");
+}
+
+TEST_CASE("options: the number of positional arguments is checked, naming what is expected") {
+  const Options two({"model.txt", "test.txt"}, {});
+  auto expect = [&](std::size_t min, std::size_t max) {
+    return usage_error_of([&] { two.expect_positional(min, max, "MODEL TEST"); });
+  };
+  // Two is within [2, 2], [1, 2] and [2, 3] ...
+  CHECK(expect(2, 2) == "(no error)");
+  CHECK(expect(1, 2) == "(no error)");
+  CHECK(expect(2, 3) == "(no error)");
+  // ... and neither within [3, 4] nor within [0, 1].
+  CHECK(expect(3, 4) == "expected MODEL TEST, got 2 positional argument(s)");
+  CHECK(expect(0, 1) == "expected MODEL TEST, got 2 positional argument(s)");
+}
+
+TEST_CASE("--search: kdtree always builds the tree, brute always scans, auto keeps the settings") {
+  using Settings = iclap::AdaptiveSearch<double>::Settings;
+  const Settings defaults;
+  Settings s;
+  iclap::cli::apply_search_choice("kdtree", s);
+  CHECK(s.brute_force_max_coordinates == 0);
+  s = Settings{};
+  iclap::cli::apply_search_choice("brute", s);
+  CHECK(s.brute_force_max_coordinates == std::numeric_limits<std::size_t>::max());
+  s = Settings{};
+  iclap::cli::apply_search_choice("auto", s);
+  CHECK(s.brute_force_max_coordinates == defaults.brute_force_max_coordinates);
 }
 
 TEST_CASE("options: a choice is one of the listed values") {

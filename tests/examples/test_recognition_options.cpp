@@ -192,6 +192,10 @@ TEST_CASE("options at their bounds are accepted; beyond them refused, naming the
   CHECK(parsed({"--k", "100000"}).k == 100000);
   CHECK(usage_error({"--k", "0"}) == "--k: 0 is outside [1, 100000]");
   CHECK(usage_error({"--relative-tolerance", "-1"}) == "--relative-tolerance: -1 is out of range");
+  CHECK(usage_error({"--contact-threshold", "-1"}) == "--contact-threshold: -1 is out of range");
+  CHECK(parsed({"--contact-threshold", "0"}).contact_threshold == 0);
+  CHECK(usage_error({"--patch-points", "0"}) == "--patch-points: 0 is outside [1, 8400]");
+  CHECK(parsed({"--patch-points", "1"}).patch_points == 1);
   // The value as given, so that a value just beyond the bound does not read
   // as the bound.
   CHECK(usage_error({"--placement-yaw-deg", "180.0000001"}) ==
