@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cctype>
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
@@ -69,7 +70,8 @@ struct Registrar {
 
 /// Parsed options of one subcommand. Options are `--name VALUE`,
 /// `--name=VALUE` or, for flags, `--name`; everything else is positional
-/// (`--` ends the options). Unknown options are a UsageError that names them.
+/// (`--` ends the options). Unknown options, and a value option given twice,
+/// are a UsageError that names them (a flag may be repeated).
 class Options {
  public:
   Options(const Args& args, const std::set<std::string>& value_options,
@@ -106,7 +108,11 @@ class Options {
             throw UsageError("option --" + name + " needs a value (got the option " + quote_text(value, 60) + ")");
         }
         if (value.empty()) throw UsageError("option --" + name + ": empty value");
-        values_[name] = value;
+        // Given twice, one of the values would be lost without a word.
+        const auto [it, added] = values_.emplace(name, value);
+        if (!added)
+          throw UsageError("option --" + name + " given twice (" + quote_text(it->second, 60) + " and " +
+                           quote_text(value, 60) + ")");
       } else {
         throw UsageError("unknown option --" + name);
       }
@@ -191,7 +197,8 @@ class Options {
     char* end = nullptr;
     errno = 0;
     const long long v = std::strtoll(text.c_str(), &end, 10);
-    if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE)
+    // strtoll skips leading white space; a value is the whole text.
+    if (text.empty() || starts_with_space(text) || end != text.c_str() + text.size() || errno == ERANGE)
       throw UsageError(what + ": " + quote_text(text, 60) + " is not an integer");
     if (v < min || v > max)
       throw UsageError(what + ": " + text + " is outside [" + std::to_string(min) + ", " +
@@ -201,15 +208,33 @@ class Options {
 
   static double parse_number(const std::string& text, const std::string& what, double min, double max) {
     char* end = nullptr;
+    errno = 0;
     const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || end != text.c_str() + text.size())
+    if (text.empty() || starts_with_space(text) || end != text.c_str() + text.size())
       throw UsageError(what + ": " + quote_text(text, 60) + " is not a number");
     if (!std::isfinite(v)) throw UsageError(what + ": " + quote_text(text, 60) + " is not finite");
-    if (v < min || v > max) throw UsageError(what + ": " + text + " is out of range");
+    // strtod rounds a value too small for a double to 0 (or a subnormal) and
+    // sets ERANGE: 1e-400 must not pass as 0.
+    if (errno == ERANGE && std::abs(v) < std::numeric_limits<double>::min())
+      throw UsageError(what + ": " + quote_text(text, 60) + " is too small for a double (it would be " +
+                       format_value(v) + ")");
+    if (v < min || v > max) throw UsageError(what + ": " + text + " is " + range_text(min, max));
     return v;
   }
 
+  /// How a number outside [min, max] misses it: "outside [0, 1]", or
+  /// "below 0" / "above 5" when the other bound is infinite.
+  static std::string range_text(double min, double max) {
+    if (std::isinf(max)) return "below " + format_exact(min);
+    if (std::isinf(min)) return "above " + format_exact(max);
+    return "outside [" + format_exact(min) + ", " + format_exact(max) + "]";
+  }
+
  private:
+  static bool starts_with_space(const std::string& text) {
+    return !text.empty() && std::isspace(static_cast<unsigned char>(text.front())) != 0;
+  }
+
   std::vector<std::string> positional_;
   std::map<std::string, std::string> values_;
   std::set<std::string> flags_;

@@ -14,31 +14,32 @@
 #include "iclap/search/adaptive.hpp"
 #include "sim_options.hpp"
 #include "touch_counts.hpp"
-#include "usage_errors.hpp"
+#include "../support/errors.hpp"
 
 namespace {
 
 using iclap::cli::Args;
 using iclap::cli::Options;
-using iclap::test::usage_error_of;
+using iclap::cli::UsageError;
+using iclap::test::what_of;
 
 // The refusal of `args` by an Options that knows --k, --out and --weights
 // (values) and --json (a flag).
 std::string refusal(const Args& args) {
-  return usage_error_of([&] { const Options o(args, {"k", "out", "weights"}, {"json"}); });
+  return what_of<UsageError>([&] { const Options o(args, {"k", "out", "weights"}, {"json"}); });
 }
 
 // The refusal of option --name given `value`, read by `read`.
 template <typename Read>
 std::string refusal_of(const std::string& name, const std::string& value, Read&& read) {
-  return usage_error_of([&] {
+  return what_of<UsageError>([&] {
     const Options o({"--" + name, value}, {name});
     read(o);
   });
 }
 
 std::string touches_error(const std::string& text) {
-  return usage_error_of([&] { iclap::cli::parse_touches(text); });
+  return what_of<UsageError>([&] { iclap::cli::parse_touches(text); });
 }
 
 // The exploration settings that `args` (simulation options) give, from the
@@ -51,7 +52,7 @@ iclap::ExplorationSettings simulated(const Args& args) {
 }
 
 std::string simulation_error(const Args& args) {
-  return usage_error_of([&] { simulated(args); });
+  return what_of<UsageError>([&] { simulated(args); });
 }
 
 }  // namespace
@@ -87,10 +88,21 @@ TEST_CASE("options: unknown options, missing and empty values are refused, namin
   CHECK(refusal({"--k", "1", "--out", "d"}) == "(no error)");
 }
 
+TEST_CASE("options: a value option given twice is refused, naming both values; a flag may repeat") {
+  // Keeping either value would lose the other without a word (`--trim
+  // patch=0.5 --trim icp=0.7` ran with icp's trim alone).
+  CHECK(refusal({"--k", "3", "--k", "50"}) == "option --k given twice ('3' and '50')");
+  CHECK(refusal({"--out=a", "x", "--out", "a"}) == "option --out given twice ('a' and 'a')");
+  CHECK(refusal({"--k", "3", "--", "--k", "50"}) == "(no error)");  // the second is positional
+  const Options flags({"--json", "--json", "--k", "3"}, {"k"}, {"json"});
+  CHECK(flags.flag("json"));
+  CHECK(flags.string("k") == "3");
+}
+
 TEST_CASE("options: the number of positional arguments is checked, naming what is expected") {
   const Options two({"model.txt", "test.txt"}, {});
   auto expect = [&](std::size_t min, std::size_t max) {
-    return usage_error_of([&] { two.expect_positional(min, max, "MODEL TEST"); });
+    return what_of<UsageError>([&] { two.expect_positional(min, max, "MODEL TEST"); });
   };
   // Two is within [2, 2], [1, 2] and [2, 3] ...
   CHECK(expect(2, 2) == "(no error)");
@@ -138,7 +150,7 @@ TEST_CASE("options: integers are whole, in range and within long long") {
   // Beyond long long: refused, not clamped to its largest value.
   const auto any = std::numeric_limits<long long>::max();
   CHECK(refusal_of("k", "99999999999999999999", read(0, any)) == "--k: '99999999999999999999' is not an integer");
-  CHECK(usage_error_of([] { Options::parse_integer("", "--touches", 1, 5); }) == "--touches: '' is not an integer");
+  CHECK(what_of<UsageError>([] { Options::parse_integer("", "--touches", 1, 5); }) == "--touches: '' is not an integer");
 }
 
 TEST_CASE("options: numbers are finite, whole strings and in range") {
@@ -148,14 +160,39 @@ TEST_CASE("options: numbers are finite, whole strings and in range") {
   CHECK(Options({"--x", "0"}, {"x"}).number("x", 0.5, 0, 1) == 0);
   CHECK(Options({"--x", "1"}, {"x"}).number("x", 0.5, 0, 1) == 1);
   CHECK(Options({"--x", "1e-3"}, {"x"}).number("x", 0.5, 0, 1) == 1e-3);
-  CHECK(refusal_of("x", "-0.5", read(0, 1)) == "--x: -0.5 is out of range");
-  CHECK(refusal_of("x", "1.5", read(0, 1)) == "--x: 1.5 is out of range");
+  CHECK(refusal_of("x", "-0.5", read(0, 1)) == "--x: -0.5 is outside [0, 1]");
+  CHECK(refusal_of("x", "1.5", read(0, 1)) == "--x: 1.5 is outside [0, 1]");
   CHECK(refusal_of("x", "0.5abc", read(0, 1)) == "--x: '0.5abc' is not a number");
   // Not finite, also without bounds: nan passes any comparison.
   CHECK(refusal_of("x", "nan", read(-inf, inf)) == "--x: 'nan' is not finite");
   CHECK(refusal_of("x", "inf", read(-inf, inf)) == "--x: 'inf' is not finite");
   CHECK(refusal_of("x", "1e999", read(-inf, inf)) == "--x: '1e999' is not finite");
-  CHECK(usage_error_of([] { Options::parse_number("", "--x", -1, 1); }) == "--x: '' is not a number");
+  CHECK(what_of<UsageError>([] { Options::parse_number("", "--x", -1, 1); }) == "--x: '' is not a number");
+}
+
+TEST_CASE("options: a value is the whole text; a number too small for a double is refused; the range is named") {
+  auto read_k = [](const Options& o) { o.integer("k", 50, 1, 100); };
+  auto read_x = [](double min, double max) { return [=](const Options& o) { o.number("x", 0, min, max); }; };
+  const double inf = std::numeric_limits<double>::infinity();
+  // strtoll and strtod skip leading white space; the options do not.
+  CHECK(refusal_of("k", " 3", read_k) == "--k: ' 3' is not an integer");
+  CHECK(refusal_of("k", "\t3", read_k) == "--k: '\\x093' is not an integer");
+  CHECK(refusal_of("x", " 0.5", read_x(0, 1)) == "--x: ' 0.5' is not a number");
+  CHECK(refusal_of("x", "0.5 ", read_x(0, 1)) == "--x: '0.5 ' is not a number");
+  // Below the smallest normal double strtod gives 0 or a subnormal: refused,
+  // also where 0 would be in range; the smallest normal itself is a value.
+  CHECK(refusal_of("x", "1e-400", read_x(0, 1)) == "--x: '1e-400' is too small for a double (it would be 0)");
+  CHECK(refusal_of("x", "-1e-400", read_x(-inf, inf)) == "--x: '-1e-400' is too small for a double (it would be -0)");
+  CHECK(refusal_of("x", "1e-310", read_x(0, 1)) == "--x: '1e-310' is too small for a double (it would be 1e-310)");
+  CHECK(Options({"--x", "2.2250738585072014e-308"}, {"x"}).number("x", 0, 0, 1) ==
+        std::numeric_limits<double>::min());
+  // The range as the caller gave it: both bounds, or the finite one.
+  CHECK(refusal_of("x", "2", read_x(0, 1.5)) == "--x: 2 is outside [0, 1.5]");
+  CHECK(refusal_of("x", "-1", read_x(0, inf)) == "--x: -1 is below 0");
+  CHECK(refusal_of("x", "7", read_x(-inf, 5)) == "--x: 7 is above 5");
+  // A bound is written exactly, so a value just beyond it is seen to be.
+  CHECK(refusal_of("x", "0.30000000000000005", read_x(0, 0.3)) ==
+        "--x: 0.30000000000000005 is outside [0, 0.3]");
 }
 
 TEST_CASE("options: a list of numbers keeps every item; an empty item is refused") {
@@ -165,7 +202,7 @@ TEST_CASE("options: a list of numbers keeps every item; an empty item is refused
   auto read = [](const Options& o) { o.numbers("weights", 0); };
   CHECK(refusal_of("weights", "1,,2", read) == "--weights: '' is not a number");
   CHECK(refusal_of("weights", "1,2,", read) == "--weights: '' is not a number");
-  CHECK(refusal_of("weights", "1,-2", read) == "--weights: -2 is out of range");
+  CHECK(refusal_of("weights", "1,-2", read) == "--weights: -2 is below 0");
   CHECK(Options::split("a,,b", ',') == std::vector<std::string>{"a", "", "b"});
 }
 
@@ -206,11 +243,11 @@ TEST_CASE("simulation options: millimetres and degrees become metres and radians
 }
 
 TEST_CASE("simulation options: values out of range are refused, naming the option and the value") {
-  CHECK(simulation_error({"--frames", "0"}) == "--frames: 0 is out of range");
-  CHECK(simulation_error({"--turn-probability", "1.5"}) == "--turn-probability: 1.5 is out of range");
+  CHECK(simulation_error({"--frames", "0"}) == "--frames: 0 is outside [1, 1e+06]");
+  CHECK(simulation_error({"--turn-probability", "1.5"}) == "--turn-probability: 1.5 is outside [0, 1]");
   CHECK(simulation_error({"--start-candidates", "0"}) == "--start-candidates: 0 is outside [1, 64]");
   CHECK(simulation_error({"--start-candidates", "65"}) == "--start-candidates: 65 is outside [1, 64]");
-  CHECK(simulation_error({"--yaw-deg", "181"}) == "--yaw-deg: 181 is out of range");
+  CHECK(simulation_error({"--yaw-deg", "181"}) == "--yaw-deg: 181 is outside [0, 180]");
   // Both sweep lengths as given, or the default of the one not given.
   CHECK(simulation_error({"--sweep-min-mm", "10", "--sweep-max-mm", "5.0"}) ==
         "--sweep-max-mm must be >= --sweep-min-mm, got 5.0 < 10");

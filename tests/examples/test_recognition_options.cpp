@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "recognition_setup.hpp"
-#include "usage_errors.hpp"
+#include "../support/errors.hpp"
 
 namespace {
 
@@ -30,7 +30,7 @@ RecognitionOptions parsed(const Args& args) {
 }
 
 std::string usage_error(const Args& args) {
-  return iclap::test::usage_error_of([&] { parsed(args); });
+  return iclap::test::what_of<iclap::cli::UsageError>([&] { parsed(args); });
 }
 
 // Four touches of two objects: heights, tilts and contact patches that
@@ -191,8 +191,8 @@ TEST_CASE("options at their bounds are accepted; beyond them refused, naming the
   CHECK(ro.occupancy_voxel == 0.00025);
   CHECK(parsed({"--k", "100000"}).k == 100000);
   CHECK(usage_error({"--k", "0"}) == "--k: 0 is outside [1, 100000]");
-  CHECK(usage_error({"--relative-tolerance", "-1"}) == "--relative-tolerance: -1 is out of range");
-  CHECK(usage_error({"--contact-threshold", "-1"}) == "--contact-threshold: -1 is out of range");
+  CHECK(usage_error({"--relative-tolerance", "-1"}) == "--relative-tolerance: -1 is below 0");
+  CHECK(usage_error({"--contact-threshold", "-1"}) == "--contact-threshold: -1 is below 0");
   CHECK(parsed({"--contact-threshold", "0"}).contact_threshold == 0);
   CHECK(usage_error({"--patch-points", "0"}) == "--patch-points: 0 is outside [1, 8400]");
   CHECK(parsed({"--patch-points", "1"}).patch_points == 1);

@@ -4,6 +4,7 @@
 // What an iclap error names or says, for checks that a bad input is refused
 // under the right name and for the right reason.
 
+#include <exception>
 #include <string>
 #include <type_traits>
 
@@ -23,12 +24,13 @@ std::string argument_of(F&& f) {
   return "(no error)";
 }
 
-/// The what() of the E (an iclap error type, InvalidArgument unless given)
-/// thrown by `f`, "(no error)" when `f` throws nothing (any other exception
-/// propagates, failing the test case rather than passing as a message).
+/// The what() of the E (an exception type: InvalidArgument unless given,
+/// e.g. cli::UsageError for the example programs' options) thrown by `f`,
+/// "(no error)" when `f` throws nothing (any other exception propagates,
+/// failing the test case rather than passing as a message).
 template <typename E = InvalidArgument, typename F>
 std::string what_of(F&& f) {
-  static_assert(std::is_base_of_v<Error, E>, "what_of reads iclap errors");
+  static_assert(std::is_base_of_v<std::exception, E>, "what_of reads exceptions");
   try {
     f();
   } catch (const E& e) {
