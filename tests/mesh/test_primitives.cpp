@@ -193,13 +193,19 @@ TEST_CASE("primitives: make_lathe closes pole ends, skips an axis segment betwee
 
 TEST_CASE("primitives: extrusions of concave outlines are closed and outward, caps exactly cover the outline") {
   // A comb (three teeth), a notch whose tip touches the line between its
-  // neighbours' neighbours, and a square with a vertex in the middle of each
-  // side (collinear points): given either way round.
+  // neighbours' neighbours, a square with a vertex in the middle of each
+  // side and one starting at such a vertex (collinear points, which must not
+  // be clipped as flat ears), a spike, and a star-shaped outline (found by a
+  // search; integer corners, no three collinear) on which an ear test that
+  // ignored the ear's edge a-b, rejecting ears for vertices beyond it, runs
+  // out of ears: given either way round.
   const std::vector<std::vector<Eigen::Vector2d>> outlines = {
       {{0, 0}, {5, 0}, {5, 3}, {4, 3}, {4, 1}, {3, 1}, {3, 3}, {2, 3}, {2, 1}, {1, 1}, {1, 3}, {0, 3}},
       {{0, 0}, {1, -1}, {2, 0}, {2, 2}, {1.2, 2}, {1, 0}, {0.8, 2}, {0, 2}},
       {{0, 0}, {1, 0}, {2, 0}, {2, 1}, {2, 2}, {1, 2}, {0, 2}, {0, 1}},
+      {{1, 0}, {2, 0}, {2, 2}, {0, 2}, {0, 0}},
       {{0, 0}, {4, 0}, {4, 4}, {3, 4}, {3, 1}, {2, 3}, {1, 1}, {1, 4}, {0, 4}},
+      {{58, 23}, {69, 54}, {-61, -55}, {12, -17}, {57, -43}, {34, -22}, {21, -5}, {77, -13}, {86, -7}},
   };
   for (std::size_t o = 0; o < outlines.size(); ++o)
     for (bool reversed : {false, true}) {
