@@ -87,9 +87,15 @@ TEST_CASE("primitives: a box is closed, outward and exactly the size asked for; 
   CHECK(b.max().isApprox(size / 2));
   CHECK(iclap::signed_volume(box) == doctest::Approx(size.prod()));
   // Every edge must be positive, not just one of them.
-  CHECK(iclap::test::what_of([] { (void)iclap::make_box({1, -2, 1}); }) == "size: box edges must be positive");
-  CHECK(iclap::test::what_of([] { (void)iclap::make_box({0, 0, 0}); }) == "size: box edges must be positive");
-  CHECK(iclap::test::what_of([] { (void)iclap::make_box({1, 1, -1e-9}); }) == "size: box edges must be positive");
+  CHECK(iclap::test::what_of([] { (void)iclap::make_box({1, -2, 1}); }) ==
+        "size: box edges must be finite and positive, got 1 x -2 x 1");
+  CHECK(iclap::test::what_of([] { (void)iclap::make_box({0, 0, 0}); }) ==
+        "size: box edges must be finite and positive, got 0 x 0 x 0");
+  CHECK(iclap::test::what_of([] { (void)iclap::make_box({1, 1, -1e-9}); }) ==
+        "size: box edges must be finite and positive, got 1 x 1 x -1e-09");
+  // An infinite edge would put infinities into the vertices.
+  CHECK(iclap::test::what_of([] { (void)iclap::make_box({1, HUGE_VAL, 1}); }) ==
+        "size: box edges must be finite and positive, got 1 x inf x 1");
 }
 
 TEST_CASE("primitives: cylinders and frustums are closed, outward, as long and wide as asked, with the polygon's volume") {
@@ -185,10 +191,43 @@ TEST_CASE("primitives: make_lathe closes pole ends, skips an axis segment betwee
 
   CHECK(iclap::test::what_of([] { (void)iclap::make_lathe({{1, 0}}, 8); }) == "profile: needs at least 2 points");
   CHECK(iclap::test::what_of([] { (void)iclap::make_lathe({{0, 0}, {1, 0}, {0, 1}}, 2); }) ==
-        "segments: needs at least 3");
+        "segments: needs at least 3, got 2");
   CHECK(iclap::test::what_of([] { (void)iclap::make_lathe({{0, 0}, {1, 0}, {0, 1}}, 3); }) == "(no error)");
   CHECK(iclap::test::what_of([] { (void)iclap::make_lathe({{0, 0}, {-1, 0}, {0, 1}}, 8); }) ==
-        "profile: radius must be >= 0");
+        "profile: radius must be >= 0, got -1 at point 1");
+  CHECK(iclap::test::what_of([] { (void)iclap::make_lathe({{0, 0}, {1, 0}, {0, std::nan("")}}, 8); }) ==
+        "profile: point 2 is not finite");
+}
+
+// Arguments that gave an inside-out solid (negative length: negative signed
+// volume), a mesh without triangles (radius 0, one ring), NaN vertices
+// (cap_rings 0: 0/0) or named an argument the caller never passed ("profile"
+// for make_sphere's radius) are refused, naming the caller's argument.
+TEST_CASE("primitives: the solids refuse arguments that would give no solid, an inside-out one or NaN") {
+  using iclap::test::what_of;
+  CHECK(what_of([] { (void)iclap::make_cylinder(0.5, -1); }) == "length: must be finite and positive, got -1");
+  CHECK(what_of([] { (void)iclap::make_cylinder(0, 1); }) == "radius: must be finite and positive, got 0");
+  CHECK(what_of([] { (void)iclap::make_cylinder(-0.5, 1); }) == "radius: must be finite and positive, got -0.5");
+  CHECK(what_of([] { (void)iclap::make_cylinder(0.5, 1, 2); }) == "segments: needs at least 3, got 2");
+  CHECK(what_of([] { (void)iclap::make_frustum(0.3, 0.1, -1); }) == "length: must be finite and positive, got -1");
+  CHECK(what_of([] { (void)iclap::make_frustum(0, 0, 1); }) == "r1: r0 and r1 are both 0: no solid");
+  CHECK(what_of([] { (void)iclap::make_frustum(-0.1, 0.2, 1); }) == "r0: must be finite and >= 0, got -0.1");
+  CHECK(what_of([] { (void)iclap::make_frustum(0, 0.2, 1); }) == "(no error)");  // a cone
+  CHECK(what_of([] { (void)iclap::make_frustum(0.2, 0, 1); }) == "(no error)");
+  CHECK(what_of([] { (void)iclap::make_capsule(0.2, -0.6); }) == "length: must be finite and positive, got -0.6");
+  CHECK(what_of([] { (void)iclap::make_capsule(0.2, 0); }) == "length: must be finite and positive, got 0");
+  CHECK(what_of([] { (void)iclap::make_capsule(0.2, 0.6, 24, 0); }) == "cap_rings: needs at least 1, got 0");
+  CHECK(what_of([] { (void)iclap::make_capsule(0.2, 0.6, 24, 1); }) == "(no error)");
+  CHECK(what_of([] { (void)iclap::make_sphere(1, 24, 1); }) == "rings: needs at least 2, got 1");
+  CHECK(what_of([] { (void)iclap::make_sphere(0); }) == "radius: must be finite and positive, got 0");
+  CHECK(what_of([] { (void)iclap::make_sphere(-1); }) == "radius: must be finite and positive, got -1");
+  CHECK(what_of([] { (void)iclap::make_sphere(std::nan("")); }) == "radius: must be finite and positive, got nan");
+  // At the smallest accepted settings each is still a closed, outward solid.
+  for (const auto& m : {iclap::make_sphere(1, 3, 2), iclap::make_capsule(0.2, 0.6, 3, 1), iclap::make_frustum(0, 1, 1, 3)}) {
+    CHECK(m.triangle_count() > 0);
+    CHECK(m.vertices.allFinite());
+    CHECK(iclap::signed_volume(m) > 0);
+  }
 }
 
 TEST_CASE("primitives: extrusions of concave outlines are closed and outward, caps exactly cover the outline") {
@@ -234,6 +273,12 @@ TEST_CASE("primitives: make_extrusion refuses bad outlines and heights, naming t
   CHECK(iclap::test::what_of([] { (void)iclap::make_extrusion(V{{0, 0}, {1, 1}, {2, 2}, {3, 3}}, 0, 1); }) ==
         "outline: has zero area");
   CHECK(iclap::test::what_of([&] { (void)iclap::make_extrusion(square, 0, 1e-9); }) == "(no error)");
+  // A NaN point gave a NaN mesh; an infinite height, infinite vertices.
+  CHECK(iclap::test::what_of([] { (void)iclap::make_extrusion(V{{0, 0}, {1, 0}, {std::nan(""), 1}}, 0, 1); }) ==
+        "outline: point 2 is not finite");
+  CHECK(iclap::test::what_of([&] { (void)iclap::make_extrusion(square, -HUGE_VAL, 1); }) ==
+        "z0: must be finite, got -inf");
+  CHECK(iclap::test::what_of([&] { (void)iclap::make_extrusion(square, 0, HUGE_VAL); }) == "z1: must be finite, got inf");
 }
 
 TEST_CASE("primitives: arc_points runs from `from` to `to` in equal steps, both ends included") {
@@ -252,4 +297,17 @@ TEST_CASE("primitives: arc_points runs from `from` to `to` in equal steps, both 
       CHECK((p[i - 1] - centre).x() * (p[i] - centre).y() - (p[i - 1] - centre).y() * (p[i] - centre).x() > 0);
     }
   }
+}
+
+TEST_CASE("primitives: arc_points refuses what would give NaN or no arc, naming the argument") {
+  using iclap::test::what_of;
+  const Eigen::Vector2d c(0, 0);
+  // steps 0 divided 0 by 0: one NaN point.
+  CHECK(what_of([&] { (void)iclap::arc_points(c, 1, 0, 1, 0); }) == "steps: needs at least 1, got 0");
+  CHECK(what_of([&] { (void)iclap::arc_points(c, 1, 0, 1, 1); }) == "(no error)");
+  CHECK(iclap::arc_points(c, 1, 0, 1, 1).size() == 2);
+  CHECK(what_of([&] { (void)iclap::arc_points(c, 0, 0, 1, 4); }) == "radius: must be finite and positive, got 0");
+  CHECK(what_of([&] { (void)iclap::arc_points(c, 1, std::nan(""), 1, 4); }) == "from: must be finite, got nan");
+  CHECK(what_of([&] { (void)iclap::arc_points(c, 1, 0, HUGE_VAL, 4); }) == "to: must be finite, got inf");
+  CHECK(what_of([] { (void)iclap::arc_points({std::nan(""), 0}, 1, 0, 1, 4); }) == "centre: is not finite");
 }

@@ -4,7 +4,9 @@
 // Closed triangle meshes of simple solids, to build objects from: boxes,
 // solids of revolution (cylinders, cones, spheres, capsules) and extruded
 // outlines. All have outward normals; combine them with append_mesh (the
-// object is the union of the overlapping shells).
+// object is the union of the overlapping shells). Arguments that would give
+// no solid, an inside-out one or a non-finite vertex are refused with an
+// InvalidArgument naming the argument (lengths and radii finite and > 0).
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +17,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "iclap/core/check.hpp"
 #include "iclap/core/error.hpp"
 #include "iclap/mesh/triangle_mesh.hpp"
 
@@ -50,7 +53,9 @@ inline TriangleMesh transformed(TriangleMesh mesh, const Eigen::Affine3d& T) {
 
 /// Axis-aligned box of edge lengths `size`, centred on the origin. 12 triangles.
 inline TriangleMesh make_box(const Eigen::Vector3d& size) {
-  if (!(size.array() > 0).all()) throw InvalidArgument("size", "box edges must be positive");
+  if (!(size.array() > 0).all() || !size.allFinite())
+    throw InvalidArgument("size", "box edges must be finite and positive, got " + format_value(size.x()) + " x " +
+                                      format_value(size.y()) + " x " + format_value(size.z()));
   const Eigen::Vector3d h = size / 2;
   std::vector<Eigen::Vector3d> v;
   for (int i = 0; i < 8; ++i)
@@ -65,11 +70,13 @@ inline TriangleMesh make_box(const Eigen::Vector3d& size) {
 /// ends to close the solid). `segments` points per ring (>= 3).
 inline TriangleMesh make_lathe(const std::vector<Eigen::Vector2d>& profile, int segments) {
   if (profile.size() < 2) throw InvalidArgument("profile", "needs at least 2 points");
-  if (segments < 3) throw InvalidArgument("segments", "needs at least 3");
+  if (segments < 3) throw InvalidArgument("segments", "needs at least 3, got " + std::to_string(segments));
   std::vector<Eigen::Vector3d> v;
   std::vector<int> start;  // first vertex of each profile point
   for (const auto& p : profile) {
-    if (p.x() < 0) throw InvalidArgument("profile", "radius must be >= 0");
+    const std::string which = "point " + std::to_string(start.size());
+    if (!p.allFinite()) throw InvalidArgument("profile", which + " is not finite");
+    if (p.x() < 0) throw InvalidArgument("profile", "radius must be >= 0, got " + format_value(p.x()) + " at " + which);
     start.push_back(static_cast<int>(v.size()));
     if (p.x() == 0) {
       v.emplace_back(0, 0, p.y());
@@ -102,12 +109,19 @@ inline TriangleMesh make_lathe(const std::vector<Eigen::Vector2d>& profile, int 
 
 /// Cylinder of `radius` and `length` along z, centred on the origin.
 inline TriangleMesh make_cylinder(double radius, double length, int segments = 32) {
+  check_positive(radius, "radius");
+  check_positive(length, "length");
   const double h = length / 2;
   return make_lathe({{0, -h}, {radius, -h}, {radius, h}, {0, h}}, segments);
 }
 
-/// Frustum along z from z = 0 (radius r0) to z = length (radius r1).
+/// Frustum along z from z = 0 (radius r0) to z = length (radius r1); one
+/// radius may be 0 (a cone).
 inline TriangleMesh make_frustum(double r0, double r1, double length, int segments = 32) {
+  check_non_negative(r0, "r0");
+  check_non_negative(r1, "r1");
+  if (r0 == 0 && r1 == 0) throw InvalidArgument("r1", "r0 and r1 are both 0: no solid");
+  check_positive(length, "length");
   std::vector<Eigen::Vector2d> p = {{0, 0}};
   if (r0 > 0) p.emplace_back(r0, 0);
   if (r1 > 0) p.emplace_back(r1, length);
@@ -119,6 +133,9 @@ inline TriangleMesh make_frustum(double r0, double r1, double length, int segmen
 /// with hemispherical ends; centred on the origin. Total length
 /// length + 2 radius.
 inline TriangleMesh make_capsule(double radius, double length, int segments = 24, int cap_rings = 6) {
+  check_positive(radius, "radius");
+  check_positive(length, "length");  // 0 would stack two rings: use make_sphere
+  if (cap_rings < 1) throw InvalidArgument("cap_rings", "needs at least 1, got " + std::to_string(cap_rings));
   std::vector<Eigen::Vector2d> p;
   const double h = length / 2;
   for (int i = 0; i <= cap_rings; ++i) {
@@ -136,6 +153,8 @@ inline TriangleMesh make_capsule(double radius, double length, int segments = 24
 
 /// Sphere of `radius` centred on the origin.
 inline TriangleMesh make_sphere(double radius, int segments = 24, int rings = 12) {
+  check_positive(radius, "radius");
+  if (rings < 2) throw InvalidArgument("rings", "needs at least 2, got " + std::to_string(rings));
   std::vector<Eigen::Vector2d> p;
   for (int i = 0; i <= rings; ++i) {
     const double a = -detail::kPi / 2 + detail::kPi * i / rings;
@@ -150,6 +169,10 @@ inline TriangleMesh make_sphere(double radius, int segments = 24, int rings = 12
 inline TriangleMesh make_extrusion(std::vector<Eigen::Vector2d> outline, double z0, double z1) {
   const std::size_t n = outline.size();
   if (n < 3) throw InvalidArgument("outline", "needs at least 3 points");
+  for (std::size_t i = 0; i < n; ++i)
+    if (!outline[i].allFinite()) throw InvalidArgument("outline", "point " + std::to_string(i) + " is not finite");
+  if (!std::isfinite(z0)) throw InvalidArgument("z0", "must be finite, got " + format_value(z0));
+  if (!std::isfinite(z1)) throw InvalidArgument("z1", "must be finite, got " + format_value(z1));
   if (!(z1 > z0)) throw InvalidArgument("z1", "must be above z0");
   double area2 = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -211,9 +234,14 @@ inline TriangleMesh make_extrusion(std::vector<Eigen::Vector2d> outline, double 
 }
 
 /// Points of a circular arc (centre, radius, angles in radians, both ends
-/// included), for building outlines.
+/// included: steps + 1 points, steps >= 1), for building outlines.
 inline std::vector<Eigen::Vector2d> arc_points(const Eigen::Vector2d& centre, double radius, double from, double to,
                                                int steps) {
+  if (!centre.allFinite()) throw InvalidArgument("centre", "is not finite");
+  check_positive(radius, "radius");
+  if (!std::isfinite(from)) throw InvalidArgument("from", "must be finite, got " + format_value(from));
+  if (!std::isfinite(to)) throw InvalidArgument("to", "must be finite, got " + format_value(to));
+  if (steps < 1) throw InvalidArgument("steps", "needs at least 1, got " + std::to_string(steps));
   std::vector<Eigen::Vector2d> p;
   for (int i = 0; i <= steps; ++i) {
     const double a = from + (to - from) * i / steps;
