@@ -273,6 +273,14 @@ TEST_CASE("primitives: make_extrusion refuses bad outlines and heights, naming t
   CHECK(iclap::test::what_of([] { (void)iclap::make_extrusion(V{{0, 0}, {1, 1}, {2, 2}, {3, 3}}, 0, 1); }) ==
         "outline: has zero area");
   CHECK(iclap::test::what_of([&] { (void)iclap::make_extrusion(square, 0, 1e-9); }) == "(no error)");
+  // A bow-tie was extruded without complaint (its caps overlap); crossing
+  // edges are named. Edges that only meet at a shared vertex are no crossing.
+  CHECK(iclap::test::what_of([] { (void)iclap::make_extrusion(V{{0, 0}, {2, 2}, {2, 0}, {0, 1}}, 0, 1); }) ==
+        "outline: edges 0 and 2 cross: not a simple polygon");
+  V pentagram;  // every second corner of a regular pentagon: each edge crosses the two not next to it
+  for (int k = 0; k < 5; ++k) pentagram.emplace_back(std::cos(kPi / 2 + k * 4 * kPi / 5), std::sin(kPi / 2 + k * 4 * kPi / 5));
+  CHECK(iclap::test::what_of([&] { (void)iclap::make_extrusion(pentagram, 0, 1); }) ==
+        "outline: edges 0 and 2 cross: not a simple polygon");
   // A NaN point gave a NaN mesh; an infinite height, infinite vertices.
   CHECK(iclap::test::what_of([] { (void)iclap::make_extrusion(V{{0, 0}, {1, 0}, {std::nan(""), 1}}, 0, 1); }) ==
         "outline: point 2 is not finite");

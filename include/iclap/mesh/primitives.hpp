@@ -164,8 +164,9 @@ inline TriangleMesh make_sphere(double radius, int segments = 24, int rings = 12
 }
 
 /// Prism: the simple polygon `outline` (x, y; either orientation, no
-/// self-intersections) extruded from z = z0 to z = z1. Caps are
-/// triangulated by ear clipping. O(n^2) in the outline size.
+/// self-intersections: two edges that cross are refused, naming them)
+/// extruded from z = z0 to z = z1. Caps are triangulated by ear clipping.
+/// O(n^2) in the outline size.
 inline TriangleMesh make_extrusion(std::vector<Eigen::Vector2d> outline, double z0, double z1) {
   const std::size_t n = outline.size();
   if (n < 3) throw InvalidArgument("outline", "needs at least 3 points");
@@ -174,6 +175,20 @@ inline TriangleMesh make_extrusion(std::vector<Eigen::Vector2d> outline, double 
   if (!std::isfinite(z0)) throw InvalidArgument("z0", "must be finite, got " + format_value(z0));
   if (!std::isfinite(z1)) throw InvalidArgument("z1", "must be finite, got " + format_value(z1));
   if (!(z1 > z0)) throw InvalidArgument("z1", "must be above z0");
+  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  // Two edges that cross (each one's ends strictly on both sides of the
+  // other) make a bow-tie, whose caps ear clipping would cover wrongly.
+  auto opposite = [](double u, double v) { return (u > 0 && v < 0) || (u < 0 && v > 0); };
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 2; j < n; ++j) {
+      if (i == 0 && j == n - 1) continue;  // adjacent through the closing edge
+      const auto &a = outline[i], &b = outline[(i + 1) % n], &c = outline[j], &d = outline[(j + 1) % n];
+      if (opposite(cross(a, b, c), cross(a, b, d)) && opposite(cross(c, d, a), cross(c, d, b)))
+        throw InvalidArgument("outline", "edges " + std::to_string(i) + " and " + std::to_string(j) +
+                                             " cross: not a simple polygon");
+    }
   double area2 = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const auto& a = outline[i];
@@ -183,9 +198,6 @@ inline TriangleMesh make_extrusion(std::vector<Eigen::Vector2d> outline, double 
   if (area2 == 0) throw InvalidArgument("outline", "has zero area");
   if (area2 < 0) std::reverse(outline.begin(), outline.end());
   // Ear clipping of the counter-clockwise outline.
-  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-  };
   std::vector<int> idx(n);
   for (std::size_t i = 0; i < n; ++i) idx[i] = static_cast<int>(i);
   std::vector<Eigen::Vector3i> caps;  // counter-clockwise seen from +z
