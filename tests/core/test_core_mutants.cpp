@@ -42,7 +42,7 @@
 using namespace iclap;
 using iclap::test::what_of;
 
-TEST_CASE("check_positive and check_non_negative: the boundary, infinities and NaN, the argument and the value") {
+TEST_CASE("check_positive, check_non_negative, scalar check_finite: the boundary, infinities, NaN, argument, value") {
   const double inf = std::numeric_limits<double>::infinity();
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double tiny = std::numeric_limits<double>::denorm_min();
@@ -58,7 +58,16 @@ TEST_CASE("check_positive and check_non_negative: the boundary, infinities and N
     CAPTURE(v);
     CHECK(what_of([&] { check_positive(v, "p"); }) == "p: must be finite and positive, got " + format_value(v));
     CHECK(what_of([&] { check_non_negative(v, "n"); }) == "n: must be finite and >= 0, got " + format_value(v));
+    CHECK(what_of([&] { check_finite(v, "z0"); }) == "z0: must be finite, got " + format_value(v));
   }
+  // The scalar check_finite takes any finite value, the extremes and the
+  // signs included.
+  const double big = std::numeric_limits<double>::max();
+  for (const double v : {0.0, -0.0, tiny, -2.5, big, -big}) {
+    CAPTURE(v);
+    CHECK(what_of([&] { check_finite(v, "z0"); }) == "(no error)");
+  }
+  CHECK(what_of<InvalidArgument>([&] { check_finite(nan, "from"); }) == "from: must be finite, got nan");
   CHECK(what_of([] { check_positive(-2.5, "sigma"); }) == "sigma: must be finite and positive, got -2.5");
   CHECK(what_of([] { check_non_negative(-1e-310, "margin"); }) == "margin: must be finite and >= 0, got -1e-310");
   CHECK(what_of([] { check_non_negative(-0.0, "margin"); }) == "(no error)");  // -0 == 0

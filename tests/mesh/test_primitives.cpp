@@ -270,7 +270,12 @@ TEST_CASE("primitives: make_extrusion refuses bad outlines and heights, naming t
         "outline: needs at least 3 points");
   CHECK(iclap::test::what_of([&] { (void)iclap::make_extrusion(square, 1, 1); }) == "z1: must be above z0");
   CHECK(iclap::test::what_of([&] { (void)iclap::make_extrusion(square, 1, 0.5); }) == "z1: must be above z0");
+  // Points on one line: the last edge runs back over the others.
   CHECK(iclap::test::what_of([] { (void)iclap::make_extrusion(V{{0, 0}, {1, 1}, {2, 2}, {3, 3}}, 0, 1); }) ==
+        "outline: edges 2 and 3 fold back on each other: not a simple polygon");
+  // A triangle so small that its doubled area underflows to 0 (1e-340), as
+  // do the cross products that would find it degenerate.
+  CHECK(iclap::test::what_of([] { (void)iclap::make_extrusion(V{{0, 0}, {1e-170, 0}, {0, 1e-170}}, 0, 1); }) ==
         "outline: has zero area");
   CHECK(iclap::test::what_of([&] { (void)iclap::make_extrusion(square, 0, 1e-9); }) == "(no error)");
   // A bow-tie was extruded without complaint (its caps overlap); crossing
@@ -281,6 +286,39 @@ TEST_CASE("primitives: make_extrusion refuses bad outlines and heights, naming t
   for (int k = 0; k < 5; ++k) pentagram.emplace_back(std::cos(kPi / 2 + k * 4 * kPi / 5), std::sin(kPi / 2 + k * 4 * kPi / 5));
   CHECK(iclap::test::what_of([&] { (void)iclap::make_extrusion(pentagram, 0, 1); }) ==
         "outline: edges 0 and 2 cross: not a simple polygon");
+  // Outlines that touch themselves without crossing were extruded too:
+  // repeated points (in a row, through the closing edge, or apart), a spike
+  // of zero width, a point on an edge not its own. Each gave degenerate
+  // walls or caps that share a point or an edge; each is named.
+  auto outline_error = [](const V& outline) {
+    return iclap::test::what_of([&] { (void)iclap::make_extrusion(outline, 0, 1); });
+  };
+  CHECK(outline_error({{0, 0}, {1, 0}, {1, 0}, {1, 1}, {0, 1}}) ==
+        "outline: points 1 and 2 coincide: not a simple polygon");
+  CHECK(outline_error({{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}}) ==
+        "outline: points 0 and 4 coincide: not a simple polygon");
+  CHECK(outline_error({{0, 0}, {2, 0}, {1, 1}, {2, 2}, {0, 2}, {1, 1}}) ==
+        "outline: points 2 and 5 coincide: not a simple polygon");
+  CHECK(outline_error({{0, 0}, {2, 0}, {2, 2}, {1, 2}, {1, 1}, {1, 1.5}, {0, 2}}) ==
+        "outline: edges 3 and 4 fold back on each other: not a simple polygon");
+  CHECK(outline_error({{0, 0}, {4, 0}, {4, 2}, {2, 0}, {0, 2}}) ==
+        "outline: point 3 lies on edge 0: not a simple polygon");
+  // Two rectangles joined along x = 2, 0 <= y <= 1, where edges 1 and 5
+  // overlap: found as the first point of one on the other, point 1 (2, 0)
+  // on edge 5 (from (2, -1) to (2, 1)).
+  CHECK(outline_error({{0, 0}, {2, 0}, {2, 2}, {4, 2}, {4, -1}, {2, -1}, {2, 1}, {0, 1}}) ==
+        "outline: point 1 lies on edge 5: not a simple polygon");
+  // Each again given the other way round is still refused.
+  for (const V& bad : {V{{0, 0}, {1, 0}, {1, 0}, {1, 1}, {0, 1}},
+                       V{{0, 0}, {2, 0}, {2, 2}, {1, 2}, {1, 1}, {1, 1.5}, {0, 2}},
+                       V{{0, 0}, {4, 0}, {4, 2}, {2, 0}, {0, 2}}}) {
+    V reversed(bad.rbegin(), bad.rend());
+    CHECK(outline_error(reversed).find("not a simple polygon") != std::string::npos);
+  }
+  // Collinear points going on in the same direction, and a point near an
+  // edge but not on it, are a simple polygon.
+  CHECK(outline_error({{0, 0}, {1, 0}, {2, 0}, {2, 2}, {0, 2}}) == "(no error)");
+  CHECK(outline_error({{0, 0}, {4, 0}, {4, 2}, {2, 1e-9}, {0, 2}}) == "(no error)");
   // A NaN point gave a NaN mesh; an infinite height, infinite vertices.
   CHECK(iclap::test::what_of([] { (void)iclap::make_extrusion(V{{0, 0}, {1, 0}, {std::nan(""), 1}}, 0, 1); }) ==
         "outline: point 2 is not finite");

@@ -87,6 +87,11 @@ void check_coordinate_range(const Eigen::DenseBase<Derived>& m, const std::strin
                                       "): squared distances would overflow; rescale");
 }
 
+/// Throws InvalidArgument naming `argument` unless `v` is finite.
+inline void check_finite(double v, const std::string& argument) {
+  if (!std::isfinite(v)) throw InvalidArgument(argument, "must be finite, got " + format_value(v));
+}
+
 /// Throws InvalidArgument naming `argument` unless `v` is finite and > 0.
 inline void check_positive(double v, const std::string& argument) {
   if (!(v > 0) || !std::isfinite(v)) throw InvalidArgument(argument, "must be finite and positive, got " + format_value(v));

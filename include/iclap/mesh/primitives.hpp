@@ -163,31 +163,68 @@ inline TriangleMesh make_sphere(double radius, int segments = 24, int rings = 12
   return make_lathe(p, segments);
 }
 
-/// Prism: the simple polygon `outline` (x, y; either orientation, no
-/// self-intersections: two edges that cross are refused, naming them)
-/// extruded from z = z0 to z = z1. Caps are triangulated by ear clipping.
-/// O(n^2) in the outline size.
+/// Prism: the simple polygon `outline` (x, y; either orientation) extruded
+/// from z = z0 to z = z1. Caps are triangulated by ear clipping. An outline
+/// that is not simple is refused, naming the points or edges at fault: two
+/// points that coincide, two edges in a row that fold back on each other
+/// (a spike of zero width), a point on an edge not its own, two edges that
+/// cross. Consecutive collinear points going on in the same direction are
+/// fine. The tests are exact in double (a point off an edge by rounding is
+/// not on it). O(n^2) in the outline size.
 inline TriangleMesh make_extrusion(std::vector<Eigen::Vector2d> outline, double z0, double z1) {
   const std::size_t n = outline.size();
   if (n < 3) throw InvalidArgument("outline", "needs at least 3 points");
   for (std::size_t i = 0; i < n; ++i)
     if (!outline[i].allFinite()) throw InvalidArgument("outline", "point " + std::to_string(i) + " is not finite");
-  if (!std::isfinite(z0)) throw InvalidArgument("z0", "must be finite, got " + format_value(z0));
-  if (!std::isfinite(z1)) throw InvalidArgument("z1", "must be finite, got " + format_value(z1));
+  check_finite(z0, "z0");
+  check_finite(z1, "z1");
   if (!(z1 > z0)) throw InvalidArgument("z1", "must be above z0");
   auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
   };
-  // Two edges that cross (each one's ends strictly on both sides of the
-  // other) make a bow-tie, whose caps ear clipping would cover wrongly.
+  // Edge i runs from point i to point i + 1 (mod n). Each refusal below is
+  // an outline whose caps or walls would be degenerate or overlap.
+  auto refuse = [](const std::string& why) { throw InvalidArgument("outline", why + ": not a simple polygon"); };
+  auto text = [](std::size_t i) { return std::to_string(i); };
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t i1 = (i + 1) % n, i2 = (i + 2) % n;
+    const auto &a = outline[i], &b = outline[i1], &c = outline[i2];
+    if (a == b) refuse("points " + text(std::min(i, i1)) + " and " + text(std::max(i, i1)) + " coincide");
+    if (b != c && cross(a, b, c) == 0 && (b - a).dot(c - b) < 0)
+      refuse("edges " + text(std::min(i, i1)) + " and " + text(std::max(i, i1)) + " fold back on each other");
+  }
+  // Two edges not next to each other must not meet: a crossing (each one's
+  // ends strictly on both sides of the other) makes a bow-tie, whose caps
+  // ear clipping would cover wrongly; a point on the other edge pinches the
+  // polygon into two that share a point or overlap along a segment.
   auto opposite = [](double u, double v) { return (u > 0 && v < 0) || (u < 0 && v > 0); };
+  // q, collinear with edge [e0, e1], lies within it.
+  auto within = [](const Eigen::Vector2d& e0, const Eigen::Vector2d& e1, const Eigen::Vector2d& q) {
+    return std::min(e0.x(), e1.x()) <= q.x() && q.x() <= std::max(e0.x(), e1.x()) &&
+           std::min(e0.y(), e1.y()) <= q.y() && q.y() <= std::max(e0.y(), e1.y());
+  };
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t j = i + 2; j < n; ++j) {
       if (i == 0 && j == n - 1) continue;  // adjacent through the closing edge
-      const auto &a = outline[i], &b = outline[(i + 1) % n], &c = outline[j], &d = outline[(j + 1) % n];
-      if (opposite(cross(a, b, c), cross(a, b, d)) && opposite(cross(c, d, a), cross(c, d, b)))
-        throw InvalidArgument("outline", "edges " + std::to_string(i) + " and " + std::to_string(j) +
-                                             " cross: not a simple polygon");
+      const std::size_t i1 = (i + 1) % n, j1 = (j + 1) % n;
+      const auto &a = outline[i], &b = outline[i1], &c = outline[j], &d = outline[j1];
+      const double c_ab = cross(a, b, c), d_ab = cross(a, b, d), a_cd = cross(c, d, a), b_cd = cross(c, d, b);
+      if (opposite(c_ab, d_ab) && opposite(a_cd, b_cd)) refuse("edges " + text(i) + " and " + text(j) + " cross");
+      // Which point of one edge lies on the other; a point equal to an end of
+      // that edge is a repeated point.
+      auto on = [&](std::size_t k, double side, const Eigen::Vector2d& e0, const Eigen::Vector2d& e1,
+                    std::size_t k0, std::size_t k1, std::size_t edge) {
+        const auto& q = outline[k];
+        if (side != 0 || !within(e0, e1, q)) return;
+        if (q == e0 || q == e1)
+          refuse("points " + text(std::min(k, q == e0 ? k0 : k1)) + " and " + text(std::max(k, q == e0 ? k0 : k1)) +
+                 " coincide");
+        refuse("point " + text(k) + " lies on edge " + text(edge));
+      };
+      on(j, c_ab, a, b, i, i1, i);
+      on(j1, d_ab, a, b, i, i1, i);
+      on(i, a_cd, c, d, j, j1, j);
+      on(i1, b_cd, c, d, j, j1, j);
     }
   double area2 = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -251,8 +288,8 @@ inline std::vector<Eigen::Vector2d> arc_points(const Eigen::Vector2d& centre, do
                                                int steps) {
   if (!centre.allFinite()) throw InvalidArgument("centre", "is not finite");
   check_positive(radius, "radius");
-  if (!std::isfinite(from)) throw InvalidArgument("from", "must be finite, got " + format_value(from));
-  if (!std::isfinite(to)) throw InvalidArgument("to", "must be finite, got " + format_value(to));
+  check_finite(from, "from");
+  check_finite(to, "to");
   if (steps < 1) throw InvalidArgument("steps", "needs at least 1, got " + std::to_string(steps));
   std::vector<Eigen::Vector2d> p;
   for (int i = 0; i <= steps; ++i) {
