@@ -22,6 +22,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "iclap/core/error.hpp"
@@ -200,9 +201,7 @@ class Options {
     // strtoll skips leading white space; a value is the whole text.
     if (text.empty() || starts_with_space(text) || end != text.c_str() + text.size() || errno == ERANGE)
       throw UsageError(what + ": " + quote_text(text, 60) + " is not an integer");
-    if (v < min || v > max)
-      throw UsageError(what + ": " + text + " is outside [" + std::to_string(min) + ", " +
-                       std::to_string(max) + "]");
+    if (v < min || v > max) throw UsageError(what + ": " + text + " is " + range_text(min, max));
     return v;
   }
 
@@ -222,12 +221,25 @@ class Options {
     return v;
   }
 
-  /// How a number outside [min, max] misses it: "outside [0, 1]", or
-  /// "below 0" / "above 5" when the other bound is infinite.
-  static std::string range_text(double min, double max) {
-    if (std::isinf(max)) return "below " + format_exact(min);
-    if (std::isinf(min)) return "above " + format_exact(max);
-    return "outside [" + format_exact(min) + ", " + format_exact(max) + "]";
+  /// How a value outside [min, max] misses it: "outside [0, 1]", or
+  /// "below 0" / "above 5" when the other bound is open: infinite for a
+  /// number, the type's own limit for an integer (no one asked for a value
+  /// up to 9223372036854775807). Bounds are written exactly.
+  template <typename T>
+  static std::string range_text(T min, T max) {
+    static_assert(std::is_same_v<T, double> || std::is_same_v<T, long long>, "range_text: double or long long");
+    std::string low, high;
+    bool open_low = false, open_high = false;
+    if constexpr (std::is_same_v<T, double>) {
+      low = format_exact(min), high = format_exact(max);
+      open_low = std::isinf(min), open_high = std::isinf(max);
+    } else {
+      low = std::to_string(min), high = std::to_string(max);
+      open_low = min == std::numeric_limits<T>::min(), open_high = max == std::numeric_limits<T>::max();
+    }
+    if (open_high && !open_low) return "below " + low;
+    if (open_low && !open_high) return "above " + high;
+    return "outside [" + low + ", " + high + "]";
   }
 
  private:

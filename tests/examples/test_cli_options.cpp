@@ -145,6 +145,14 @@ TEST_CASE("options: integers are whole, in range and within long long") {
   CHECK(Options({"--k", "100"}, {"k"}).integer("k", 50, 1, 100) == 100);
   CHECK(refusal_of("k", "0", read(1, 100)) == "--k: 0 is outside [1, 100]");
   CHECK(refusal_of("k", "101", read(1, 100)) == "--k: 101 is outside [1, 100]");
+  // With one bound open (the type's own limit), the other is named alone,
+  // as for numbers: no "outside [0, 9223372036854775807]".
+  const auto lowest = std::numeric_limits<long long>::min(), largest = std::numeric_limits<long long>::max();
+  CHECK(refusal_of("k", "-1", read(0, largest)) == "--k: -1 is below 0");
+  CHECK(refusal_of("k", "0", read(1, largest)) == "--k: 0 is below 1");
+  CHECK(refusal_of("k", "101", read(lowest, 100)) == "--k: 101 is above 100");
+  CHECK(refusal_of("k", "-101", read(-100, largest)) == "--k: -101 is below -100");
+  CHECK(Options({"--k", "-9223372036854775808"}, {"k"}).integer("k", 50) == lowest);
   CHECK(refusal_of("k", "5x", read(1, 100)) == "--k: '5x' is not an integer");
   CHECK(refusal_of("k", "2.5", read(1, 100)) == "--k: '2.5' is not an integer");
   // Beyond long long: refused, not clamped to its largest value.
