@@ -134,6 +134,19 @@ TEST_CASE("the stopping rules: defaults, order and the relative change") {
   term.relative_tolerance = 0.5;
   CHECK(term.check(3, 1.0, 1.9) == StopReason::RelativeTolerance);
   CHECK(term.check(3, 1.0, 2.1) == std::nullopt);
+  // Rounding floor: two consecutive errors both at or below it are no
+  // change, however far apart relatively; one above it is a change.
+  term.relative_tolerance = 1e-6;
+  const double floor = 1e-29;
+  CHECK(term.check(3, floor, floor / 100, floor) == StopReason::RelativeTolerance);
+  CHECK(term.check(3, floor / 100, floor, floor) == StopReason::RelativeTolerance);
+  CHECK(term.check(3, floor / 100, 1.5 * floor, floor) == std::nullopt);
+  CHECK(term.check(3, 1.5 * floor, floor / 100, floor) == std::nullopt);
+  CHECK(term.check(0, floor / 100, floor / 10, floor) == std::nullopt);  // no previous error yet
+  CHECK(term.check(3, floor / 100, floor / 10) == std::nullopt);         // the three-argument rules: floor 0
+  term.relative_tolerance = 0;                                           // rule 2 off: the floor too
+  CHECK(term.check(3, floor / 100, floor / 10, floor) == std::nullopt);
+  static_assert(detail::has_floor_check<PaperTermination<double>, double>::value);
   // A relative tolerance must be finite.
   term.relative_tolerance = std::numeric_limits<double>::infinity();
   CHECK_THROWS_AS(term.validate(), InvalidArgument);

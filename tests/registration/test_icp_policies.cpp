@@ -404,6 +404,84 @@ TEST_CASE("termination: the paper's three rules") {
   CHECK(e0.iterations == 7);
 }
 
+namespace {
+/// A trimmed registration of an exact moved copy of `model`, in `Scalar`.
+template <typename Scalar, typename Model>
+RegistrationResult<Scalar, 3> trimmed_exact_copy(const Eigen::MatrixXd& model, double trim, int max_iterations,
+                                                 double relative_tolerance, Eigen::MatrixXd& R, Eigen::VectorXd& t) {
+  R = random_motion<Model>(3, 0.02, 0.005, 71, t);
+  const Eigen::MatrixXd test = R.transpose() * (model.colwise() - t);  // model = R test + t
+  const ReferenceCloud<Scalar, 3> ref(model.cast<Scalar>().eval());
+  Icp<Scalar, 3, Model> icp;
+  icp.rejection.trim_fraction = static_cast<Scalar>(trim);
+  icp.termination.max_iterations = max_iterations;
+  icp.termination.relative_tolerance = static_cast<Scalar>(relative_tolerance);
+  return icp.align(ref, test.cast<Scalar>().eval());
+}
+}  // namespace
+
+TEST_CASE_TEMPLATE("termination: a trimmed registration of an exact copy converges at the rounding floor", Scalar,
+                   float, double) {
+  // Every pair of an exact fit is at rounding distance, and trimming keeps
+  // a different closest fraction of them at each step: E jumped between
+  // values such as 1e-32 and 1e-34 (double), so its relative change never
+  // fell below 1e-6, and the registration ran to max_iterations, reported
+  // not converged. Two consecutive errors at or below the rounding floor
+  // are now no change (rule 2).
+  const Eigen::MatrixXd model = random_points(3, 60, 73, 0.05, 0.3);  // a 10 cm object 30 cm from the origin
+  Eigen::MatrixXd R;
+  Eigen::VectorXd t;
+  for (const double trim : {0.9, 0.5}) {
+    CAPTURE(trim);
+    const auto fp = trimmed_exact_copy<Scalar, FullRigid>(model, trim, 50, 1e-6, R, t);
+    const auto pl = trimmed_exact_copy<Scalar, Planar>(model, trim, 50, 1e-6, R, t);
+    for (const auto* r : {&fp, &pl}) {
+      CHECK(r->converged);
+      CHECK(r->stop_reason == StopReason::RelativeTolerance);
+      CHECK(r->iterations < 10);
+      // The fit is exact to rounding: the floor is 64 units in the last
+      // place of the 5 cm spread per coordinate.
+      CHECK(r->rmse <= 64 * std::sqrt(3.0) * 0.05 * std::numeric_limits<Scalar>::epsilon());
+    }
+    // The recovered motion is the true one (Planar's last: its R and t).
+    CHECK(difference(pl.T_model_test.R, R) < eps<Scalar>(1e3));
+    CHECK(difference(pl.T_model_test.t, t) < eps<Scalar>(1e3));
+    // With rule 2 disabled (relative tolerance 0), the floor does not stop
+    // it either: max_iterations forces every iteration.
+    const auto forced = trimmed_exact_copy<Scalar, Planar>(model, trim, 7, 0, R, t);
+    CHECK(forced.stop_reason == StopReason::MaxIterations);
+    CHECK(forced.iterations == 7);
+  }
+}
+
+namespace {
+/// A user's termination policy with the three-argument check only: stops
+/// after `cap` updates, whatever E does.
+struct CappedTermination {
+  int cap = 3;
+  void validate() const {}
+  std::optional<StopReason> check(int iterations, double, double) const {
+    if (iterations >= cap) return StopReason::MaxIterations;
+    return std::nullopt;
+  }
+};
+static_assert(!detail::has_floor_check<CappedTermination, double>::value);
+}  // namespace
+
+TEST_CASE("a termination policy without the rounding floor is called with three arguments") {
+  const Eigen::MatrixXd model = random_points(3, 60, 73, 0.05, 0.3);
+  Eigen::MatrixXd R;
+  Eigen::VectorXd t;
+  R = random_motion<Planar>(3, 0.02, 0.005, 71, t);
+  const Eigen::MatrixXd test = R.transpose() * (model.colwise() - t);
+  const ReferenceCloud<double, 3> ref(model);
+  Icp<double, 3, Planar, DistanceRejector<double>, CappedTermination> icp;
+  icp.rejection.trim_fraction = 0.9;
+  const auto r = icp.align(ref, test);
+  CHECK(r.iterations == 3);  // the policy alone decides, though the copy is exact
+  CHECK(r.stop_reason == StopReason::MaxIterations);
+}
+
 TEST_CASE("the iterations reuse the workspace's buffers from the first step on") {
   // Both pair buffers are sized when a registration starts: the steps only
   // swap them (the first step used to size the second one).

@@ -24,6 +24,16 @@
 
 namespace iclap {
 
+namespace detail {
+/// Whether a termination policy takes the rounding floor (see PaperTermination).
+template <typename T, typename Scalar, typename = void>
+struct has_floor_check : std::false_type {};
+template <typename T, typename Scalar>
+struct has_floor_check<
+    T, Scalar, std::void_t<decltype(std::declval<const T&>().check(0, Scalar(), Scalar(), Scalar()))>>
+    : std::true_type {};
+}  // namespace detail
+
 /// Reusable buffers of `Icp::align`. Passing the same workspace to many
 /// registrations (one per thread) removes their per-call allocations; with a
 /// fixed `Dim` the iterations never allocate either way.
@@ -560,10 +570,30 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
   }
 
   void check_stop() {
-    if (const auto stop = icp_->termination.check(iterations_, static_cast<Scalar>(error_), static_cast<Scalar>(previous_))) {
+    std::optional<StopReason> stop;
+    if constexpr (detail::has_floor_check<Termination, Scalar>::value)
+      stop = icp_->termination.check(iterations_, static_cast<Scalar>(error_), static_cast<Scalar>(previous_),
+                                     rounding_floor());
+    else
+      stop = icp_->termination.check(iterations_, static_cast<Scalar>(error_), static_cast<Scalar>(previous_));
+    if (stop) {
       done_ = true;
       reason_ = *stop;
     }
+  }
+
+  /// The E that rounding alone gives an exact fit: each of the d coordinate
+  /// differences of a kept pair is off by a few units in the last place of
+  /// the clouds' scale (a point moved by R and t in Scalar, then
+  /// subtracted). 64 units leave a wide margin: exact fits measured up to
+  /// 5.4 units RMS per coordinate (2352 registrations of exact copies,
+  /// float and double, 3-, 4- and 8-D, trimmed and not, objects of 1 mm to
+  /// 100 m, offsets up to 10 times their size). Far below any real fit:
+  /// in float, for a 0.1 m object, an RMS distance of about 1.5 um (4-D).
+  Scalar rounding_floor() const {
+    const Acc unit = Acc(64) * static_cast<Acc>(std::numeric_limits<Scalar>::epsilon()) *
+                     static_cast<Acc>(reference_->spread());
+    return static_cast<Scalar>(static_cast<Acc>(kept_) * static_cast<Acc>(reference_->dim()) * unit * unit);
   }
 
   void match_and_check(const Neighbor<Scalar>* given = nullptr) {

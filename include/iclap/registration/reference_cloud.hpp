@@ -135,6 +135,7 @@ class ReferenceCloud {
                                           format_value(largest) +
                                           ": squared distances at this scale overflow the scalar type; rescale "
                                           "the points or the weights");
+    spread_ = static_cast<double>(spread);
     search_ = Search(std::move(work), search_settings);
   }
 
@@ -149,6 +150,9 @@ class ReferenceCloud {
   const Search& search() const noexcept { return search_; }
   /// The working points W (p - centroid), one per column.
   const CloudType& working_points() const noexcept { return search_.points(); }
+  /// The largest magnitude of a working coordinate (0 for a single point):
+  /// the scale at which the registration's arithmetic rounds.
+  double spread() const noexcept { return spread_; }
 
  private:
   template <typename Derived>
@@ -164,6 +168,7 @@ class ReferenceCloud {
   Vector centroid_;
   Point<Acc, Dim> centroid_acc_;
   Vector weights_;
+  double spread_ = 0;
   Search search_;
 };
 

@@ -45,9 +45,18 @@ inline const char* to_string(StopReason r) noexcept {
 /// update); a relative tolerance of 0 disables rule 2; so `max_iterations = 50`
 /// with both disabled forces exactly 50 iterations.
 ///
+/// Rounding: rule 2 also counts two consecutive errors that are both at or
+/// below the registration's rounding floor (see Icp: the E that rounding
+/// alone gives an exact fit) as no change. A trimmed registration of an
+/// exact copy keeps a different closest fraction of its pairs at every
+/// step, all at rounding distance, so E jumps between values like 1e-32
+/// and 1e-34 and its relative change never falls below any threshold: it
+/// used to run to `max_iterations` and report "not converged".
+///
 /// A custom termination policy provides `void validate() const` and
 /// `std::optional<StopReason> check(int iterations, Scalar E, Scalar E_prev) const`
-/// (E_prev is meaningless when iterations == 0).
+/// (E_prev is meaningless when iterations == 0); a registration calls
+/// `check(iterations, E, E_prev, floor)` instead where the policy has it.
 template <typename Scalar>
 struct PaperTermination {
   int max_iterations = 50;
@@ -67,10 +76,18 @@ struct PaperTermination {
       throw InvalidArgument("termination.relative_tolerance", "must be finite and >= 0 (got " + format_exact(relative_tolerance) + ")");
   }
 
+  /// The rules without a rounding floor (floor 0: only equal errors).
   std::optional<StopReason> check(int iterations, Scalar error, Scalar previous_error) const {
+    return check(iterations, error, previous_error, Scalar(0));
+  }
+
+  /// The rules, with `floor` the E that rounding alone gives an exact fit
+  /// of these clouds (>= 0).
+  std::optional<StopReason> check(int iterations, Scalar error, Scalar previous_error, Scalar floor) const {
     if (error <= absolute_tolerance) return StopReason::AbsoluteTolerance;
     if (iterations > 0 && relative_tolerance > 0 &&
-        (error == previous_error || std::abs(previous_error - error) < relative_tolerance * previous_error))
+        (error == previous_error || std::abs(previous_error - error) < relative_tolerance * previous_error ||
+         (error <= floor && previous_error <= floor)))
       return StopReason::RelativeTolerance;
     if (iterations >= max_iterations) return StopReason::MaxIterations;
     return std::nullopt;
