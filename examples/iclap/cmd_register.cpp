@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -123,8 +124,14 @@ int run_typed(const Request& q) {
       for (Eigen::Index j = 0; j < H.cols(); ++j) std::printf(" % .9f", static_cast<double>(H(i, j)));
       std::printf("\n");
     }
-    std::printf("rmse: %.9g\nerror (sum of squared distances): %.9g\npairs: %ld\niterations: %d\n",
-                static_cast<double>(r.rmse), static_cast<double>(r.error), static_cast<long>(r.pairs), r.iterations);
+    // No pair (all beyond --max-distance): no error to print; the library's
+    // infinity would read as a number (the JSON gives null).
+    if (r.pairs > 0)
+      std::printf("rmse: %.9g\nerror (sum of squared distances): %.9g\n", static_cast<double>(r.rmse),
+                  static_cast<double>(r.error));
+    else
+      std::printf("rmse: none (no pairs)\nerror (sum of squared distances): none (no pairs)\n");
+    std::printf("pairs: %ld\niterations: %d\n", static_cast<long>(r.pairs), r.iterations);
     std::printf("converged: %s\nstop reason: %s\n", r.converged ? "yes" : "no", to_string(r.stop_reason));
     if (r.degenerate)
       std::printf("degenerate: yes (the matched points do not determine every moved direction)\n");
@@ -196,6 +203,11 @@ int run_register(const iclap::cli::Args& args) {
   q.align_centroids = opt.flag("align-centroids");
   q.json = opt.flag("json");
 
+  // A directory would be refused as a bare "read error".
+  for (const auto* path : {&q.model_path, &q.test_path}) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(*path, ec)) throw iclap::IoError(*path, "is a directory, not a point file");
+  }
   q.model = iclap::read_point_file(q.model_path, &q.model_lines);
   q.test = iclap::read_point_file(q.test_path, &q.test_lines);
   if (q.test.rows() != q.model.rows())
