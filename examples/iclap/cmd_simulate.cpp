@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <iostream>
 #include <optional>
@@ -16,11 +17,45 @@
 #include "sim_options.hpp"
 #include "iclap/data/csv_writer.hpp"
 #include "iclap/data/dataset.hpp"
+#include "iclap/io/atomic_file.hpp"
+#include "iclap/mesh/load.hpp"
 #include "iclap/sim/builtin_objects.hpp"
 #include "iclap/sim/objects.hpp"
 #include "iclap/sim/simulator.hpp"
 
 namespace {
+
+namespace fs = std::filesystem;
+
+/// Throws UsageError when --out `out` is a file the run reads from `dir`:
+/// one of its meshes or its meshes.json (the dataset would replace it).
+void check_out_is_no_input(const std::string& out, const std::string& dir) {
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string file = it->path().string();
+    if (!iclap::is_mesh_file(file) && it->path().filename() != "meshes.json") continue;
+    std::error_code same_ec;  // set when OUT does not exist yet: no conflict
+    if (fs::equivalent(out, it->path(), same_ec))
+      throw iclap::cli::UsageError("--out " + iclap::quote_text(out) + " is " + iclap::quote_text(file) +
+                                   ", an input of --objects " + iclap::quote_text(dir) +
+                                   ", which the dataset would replace");
+  }
+}
+
+/// Throws UsageError naming --out unless the dataset can be written to
+/// `out`, before the simulation (minutes for many explorations or large
+/// meshes) rather than after it: not a directory, and a new file can be
+/// created beside it (tried and removed at once).
+void check_out_writable(const std::string& out) {
+  std::error_code ec;
+  if (fs::is_directory(out, ec))
+    throw iclap::cli::UsageError("--out " + iclap::quote_text(out) + ": is a directory; give a file name");
+  try {
+    iclap::AtomicFileWriter probe(out);  // removed again (no commit)
+  } catch (const iclap::IoError& e) {
+    throw iclap::cli::UsageError(std::string("--out: ") + e.what());
+  }
+}
 
 int run_simulate(const iclap::cli::Args& args) {
   using namespace iclap::cli;
@@ -39,6 +74,10 @@ int run_simulate(const iclap::cli::Args& args) {
   settings.threads = static_cast<unsigned>(opt.integer("threads", 0, 0, 256));
   parse_simulation_options(opt, settings.exploration);
   const long long seed = opt.integer("seed", 1, 0);
+  if (out != "-") {
+    check_out_writable(out);
+    if (objects_arg != "builtin") check_out_is_no_input(out, objects_arg);
+  }
 
   std::vector<iclap::SimObject> objects;
   if (objects_arg == "builtin") {

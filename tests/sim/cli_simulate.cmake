@@ -74,4 +74,28 @@ expect_match("${err}" "--turn-probability: 1.5 is outside \\[0, 1\\]")
 if(EXISTS "${WORK}/x.csv")
   message(FATAL_ERROR "a refused run left its output file")
 endif()
+# An --out that cannot be written is refused before the simulation (a
+# directory was "cannot move into place: Is a directory", after it).
+run_expect(2 "${ICLAP}" simulate --explorations 1 --frames 10 --out "${WORK}")
+expect_match("${err}" "^iclap simulate: --out '[^']*': is a directory; give a file name\n")
+run_expect(2 "${ICLAP}" simulate --explorations 1 --frames 10 --out "${WORK}/no_such_dir/x.csv")
+expect_match("${err}" "^iclap simulate: --out: [^\n]*/no_such_dir/x\\.csv: cannot open for writing")
+file(GLOB leftovers "${WORK}/*.partial*")
+if(leftovers)
+  message(FATAL_ERROR "a refused --out left ${leftovers}")
+endif()
+# --out naming one of the run's inputs (a mesh of the folder, its
+# meshes.json) is refused before the run: the dataset would replace it.
+file(COPY "${MESHES}/" DESTINATION "${WORK}/meshes")
+foreach(input wedge.ply meshes.json)
+  file(SHA256 "${WORK}/meshes/${input}" before)
+  run_expect(2 "${ICLAP}" simulate --objects "${WORK}/meshes" --explorations 1 --frames 10 --out "${WORK}/meshes/${input}")
+  expect_match("${err}" "--out '[^']*/meshes/${input}' is '[^']*/meshes/${input}', an input of --objects '[^']*/meshes', which the dataset would replace")
+  file(SHA256 "${WORK}/meshes/${input}" after)
+  if(NOT before STREQUAL after)
+    message(FATAL_ERROR "simulate --out replaced its input ${input}")
+  endif()
+endforeach()
+# A new file in the folder is no input.
+run("${ICLAP}" simulate --objects "${WORK}/meshes" --explorations 1 --frames 10 --out "${WORK}/meshes/new.csv")
 file(REMOVE_RECURSE "${WORK}")
