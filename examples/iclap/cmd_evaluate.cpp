@@ -590,6 +590,37 @@ void export_reference_clouds(const fs::path& out, const TouchTable& table, const
   }
 }
 
+/// Throws InvalidArgument naming --export-ply when an object's cloud,
+/// OBJECT.ply (file_name_of: %XX triples the bytes of a non-ASCII name),
+/// would have a file name longer than 255 bytes (NAME_MAX on Linux and
+/// macOS): checked before the run, since moving the files into OUT fails
+/// at its end and keeps nothing of it.
+void check_cloud_file_names(const std::vector<std::string>& objects) {
+  for (const auto& object : objects) {
+    const std::string file = file_name_of(object) + ".ply";
+    if (file.size() > 255)
+      throw InvalidArgument("--export-ply", "object " + quote_text(object, 60) + " would be written to a file name of " +
+                                                std::to_string(file.size()) + " bytes (" + quote_text(file, 60) +
+                                                "), longer than a file name may be (255)");
+  }
+}
+
+/// Throws UsageError when the dataset `input` is a file the run writes into
+/// OUT (a table or a figure): committing the results would replace it. A
+/// link is followed: what it leads to is what would be lost.
+void check_input_not_replaced(const std::string& input, const fs::path& out) {
+  std::error_code ec;
+  const fs::path real = fs::canonical(input, ec);
+  if (ec) return;  // a missing or unreadable FILE is named by the reader
+  if (!fs::equivalent(real.parent_path(), out, ec)) return;
+  const std::string name = real.filename().string();
+  const bool table = name == "results.csv" || name == "weights.csv" || name == "confusion.csv" || name == "sweeps.csv";
+  const bool figure = name.size() > 8 && name.compare(0, 4, "fig_") == 0 && name.compare(name.size() - 4, 4, ".svg") == 0;
+  if (table || figure)
+    throw UsageError("--out " + quote_text(out.string()) + " would replace the dataset " + quote_text(input) +
+                     " with the run's " + name + "; give another --out or move the dataset");
+}
+
 int run_evaluate(const Args& args) {
   auto value_options = RecognitionOptions::value_options();
   for (const char* o : {"touches", "methods", "repeats", "weight-repeats", "seed", "normalization", "threads", "out",
@@ -625,6 +656,7 @@ int run_evaluate(const Args& args) {
     if (opt.flag("export-ply")) dirs.emplace_back("references");
     probe.check({"results.csv", "weights.csv", "confusion.csv", "sweeps.csv"}, dirs);
   }
+  if (!opt.positional().empty()) check_input_not_replaced(opt.positional()[0], out);
   const auto sim_seed = static_cast<std::uint64_t>(opt.integer("sim-seed", 1, 0));
 
   const std::vector<std::string> needed = needed_classifiers(named);
@@ -632,6 +664,17 @@ int run_evaluate(const Args& args) {
   // settings (one per combination): variants chosen like the weights.
   const std::vector<Method> methods = ro.expand_choices(named, needed);
   const std::vector<std::string> built = ro.expand_choices(needed);
+  // Methods the normalisation cannot fuse (products of z-scores) are an
+  // option error, named now: not as the dataset's, after reading (or
+  // simulating) it.
+  if (s.normalization == Normalization::ZScore) {
+    const Recognizer probe(make_classifiers(ro, built), s.normalization);
+    try {
+      probe.check(methods);
+    } catch (const InvalidArgument& e) {
+      throw UsageError("--normalization zscore: " + e.reason());
+    }
+  }
   const auto t0 = std::chrono::steady_clock::now();
   std::string origin;
   Dataset dataset;
@@ -650,6 +693,7 @@ int run_evaluate(const Args& args) {
   }
   check_orientation(needed, table, origin);
   check_positions(needed, table, ro, origin);
+  if (opt.flag("export-ply")) check_cloud_file_names(table.objects);
 
   const ClassifierFactory factory = [ro, built] { return make_classifiers(ro, built); };
 

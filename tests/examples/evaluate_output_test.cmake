@@ -15,6 +15,12 @@
 #                        run, naming DIR (not the staging directory)
 #   references_file      DIR/references is a regular file, with --export-ply:
 #                        refused before the run
+#   input_in_out         the dataset is DIR/results.csv (or a link to DIR's
+#                        fig_single.svg): refused before the run, the dataset
+#                        unchanged (the run would have replaced it)
+#   long_cloud_name      --export-ply with an object whose OBJECT.ply name is
+#                        longer than a file name may be: refused before the
+#                        run (it failed at the end, keeping nothing of it)
 cmake_minimum_required(VERSION 3.16)  # policies: GLOB_RECURSE does not follow links
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
@@ -168,6 +174,39 @@ elseif(CASE STREQUAL "references_file")
   expect_same(${res} "${before}")
   expect_no_run()
   expect_match("${err}" "res/references: is not a directory; .*res was left as it was")
+
+elseif(CASE STREQUAL "input_in_out")
+  file(MAKE_DIRECTORY ${res})
+  configure_file(${WORK_DIR}/three.csv ${res}/results.csv COPYONLY)
+  configure_file(${WORK_DIR}/three.csv ${res}/fig_single.svg COPYONLY)
+  file(CREATE_LINK ${res}/fig_single.svg ${WORK_DIR}/link.csv SYMBOLIC)
+  snapshot(${res} before)
+  run_expect(2 ${ICLAP} evaluate ${res}/results.csv --methods bow,icp --touches 1 --repeats 1 --out ${res})
+  expect_no_run()
+  expect_match("${err}" "--out '[^']*res' would replace the dataset '[^']*res/results\\.csv' with the run's results\\.csv")
+  run_expect(2 ${ICLAP} evaluate ${WORK_DIR}/link.csv --methods bow,icp --touches 1 --repeats 1 --out ${res})
+  expect_no_run()
+  expect_match("${err}" "would replace the dataset '[^']*link\\.csv' with the run's fig_single\\.svg")
+  expect_same(${res} "${before}")
+  # The same file name elsewhere is no conflict.
+  run(${ICLAP} evaluate ${res}/results.csv --methods bow,icp --touches 1 --repeats 1 --out ${WORK_DIR}/other)
+  expect_file_lines(${WORK_DIR}/other/results.csv 3 "icp,1,")
+
+elseif(CASE STREQUAL "long_cloud_name")
+  # 100 x e-acute (UTF-8 C3 A9): 200 bytes of name, 600 as %C3%A9.
+  string(REPEAT "é" 100 long)
+  file(READ ${WORK_DIR}/three.csv data)
+  string(REPLACE "\nwedge," "\n${long}," data "${data}")
+  file(WRITE ${WORK_DIR}/long.csv "${data}")
+  run_expect(2 ${ICLAP} evaluate ${WORK_DIR}/long.csv --methods bow,icp --touches 1 --repeats 1 --export-ply --out ${res})
+  expect_no_run()
+  expect_match("${err}" "^iclap evaluate: --export-ply: object '[^']+' would be written to a file name of 604 bytes \\('%C3%A9%C3%A9[^']*'\\), longer than a file name may be \\(255\\)\n$")
+  if(EXISTS ${res})
+    message(FATAL_ERROR "a refused run created ${res}")
+  endif()
+  # Without --export-ply the name is no file name.
+  run(${ICLAP} evaluate ${WORK_DIR}/long.csv --methods bow,icp --touches 1 --repeats 1 --out ${res})
+  expect_file_lines(${res}/results.csv 3 "icp,1,")
 
 else()
   message(FATAL_ERROR "unknown CASE '${CASE}'")
