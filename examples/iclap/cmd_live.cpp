@@ -350,6 +350,9 @@ SimObject simulation_object(const std::string& spec, const std::string& unit) {
   const auto names = builtin_object_names();
   if (std::find(names.begin(), names.end(), spec) != names.end()) return builtin_object(spec);
   if (is_mesh_file(spec)) {
+    // The file first: a path that does not exist (or is no mesh) is named
+    // as such, not as a file that meshes.json fails to list.
+    TriangleMesh mesh = load_mesh(spec);
     double scale = 1.0;
     if (unit == "auto") {
       const fs::path manifest = fs::path(spec).parent_path() / "meshes.json";
@@ -366,7 +369,6 @@ SimObject simulation_object(const std::string& spec, const std::string& unit) {
     } else {
       scale = metres_per_unit(parse_length_unit(unit, "--unit"));
     }
-    TriangleMesh mesh = load_mesh(spec);
     scale_mesh(mesh, scale);
     return make_sim_object(fs::path(spec).stem().string(), std::move(mesh), true);
   }
@@ -398,7 +400,9 @@ LiveSource make_source(const Options& o) {
     const bool by_object = o.has("object");
     const std::string object = o.string("object");
     const bool by_exploration = o.has("exploration");
-    const std::int64_t exploration = o.integer("exploration", 0, 0);
+    // Any id the dataset format allows, negative ones too (the reader takes
+    // any integer); only a simulated exploration's id must be >= 0.
+    const std::int64_t exploration = o.integer("exploration", 0);
     std::vector<Frame> kept;
     for (auto& f : d.frames)
       if ((!by_object || f.object == object) && (!by_exploration || f.exploration == exploration))
@@ -731,7 +735,14 @@ int run_live_command(const Args& args) {
       if (o.has(opt)) throw UsageError("--cross-validate takes no --" + opt + " (it replays the references)");
     if (o.flag("real-time")) throw UsageError("--cross-validate takes no --real-time (it replays the references)");
     // The traces' path, checked before the (long) computation.
-    if (o.has("traces")) check_output_path(o.string("traces"), "--traces");
+    if (o.has("traces")) {
+      check_output_path(o.string("traces"), "--traces");
+      // The traces would replace the dataset they are computed from.
+      std::error_code ec;
+      if (fs::equivalent(o.string("traces"), o.string("references"), ec))
+        throw UsageError("--traces " + quote_text(o.string("traces")) + " is the --references file " +
+                         quote_text(o.string("references")) + ", which the traces would replace");
+    }
   } else if (o.has("confidence") && o.string("confidence").find(',') != std::string::npos) {
     throw UsageError("--confidence: a list of thresholds needs --cross-validate");
   }

@@ -316,6 +316,26 @@ TEST_CASE("iclap live --replay and --simulate") {
     CHECK(lines_starting_with(r.out, "touch ").size() == 3);
     CHECK(r.out.find("(confident)") != std::string::npos);
   }
+  {  // Exploration ids may be negative (the reader takes any integer):
+     // --exploration selects one (it was refused as outside [0, ...]).
+    iclap::Dataset d = iclap::read_dataset_csv(kClamp);
+    for (auto& f : d.frames) f.exploration = -2;
+    iclap::write_dataset_csv(scratch("clamp_negative.csv"), d);
+    const auto r = run_iclap({"live", "--references", kTrain, "--method", kMethod, "--replay",
+                              scratch("clamp_negative.csv"), "--exploration", "-2", "--max-touches", "2"},
+                             scratch);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.out.find("source: replay of " + scratch("clamp_negative.csv") + ", exploration -2\n") != std::string::npos);
+    CHECK(lines_starting_with(r.out, "touch ").size() == 2);
+    CHECK(!lines_starting_with(r.out, "truth: c_clamp (").empty());
+    // An id the file does not hold is still named.
+    const auto none = run_iclap({"live", "--references", kTrain, "--method", kMethod, "--replay",
+                                 scratch("clamp_negative.csv"), "--exploration", "-3"},
+                                scratch);
+    CHECK(none.status == 2);
+    CHECK(none.err.find("has no frame of exploration -3") != std::string::npos);
+  }
   {  // A replay without a touch: no decision, exit 1.
     iclap::Dataset idle = iclap::read_dataset_csv(kScissors);
     idle.frames.resize(2);
@@ -497,6 +517,10 @@ TEST_CASE("iclap live: bad input exits 2 with a clear message") {
       {{"live", "--references", refs, "--min-touches", "5", "--max-touches", "2", "--replay", kClamp},
        "--min-touches 5 exceeds --max-touches 2"},
       {{"live", "--references", refs, "--simulate", "teapot"}, "neither a built-in object"},
+      // A mesh path that does not exist is named as such (it was "no
+      // 'meshes.json' gives its unit; pass --unit m or mm").
+      {{"live", "--references", refs, "--simulate", scratch("no_such.obj")},
+       scratch("no_such.obj") + ": cannot open for reading"},
       {{"live", "--references", refs, "--replay", kClamp, "--object", "teapot"}, "has no frame of object 'teapot'"},
       {{"live", "--references", refs, "--replay", kClamp, "--pose", "fixed:0,0,0"}, "--pose needs --port"},
       {{"live", "--references", refs, "--replay", kClamp, "--real-time"}, "--real-time needs --simulate"},
@@ -552,6 +576,24 @@ TEST_CASE("iclap live --cross-validate: source options are refused, --traces is 
     CHECK(r.out.empty());
   }
   CHECK(fs::is_empty(scratch.path / "tracedir"));
+  {  // --traces naming the references (directly or through a link) would
+     // replace the dataset with the traces: refused, the dataset unchanged.
+    fs::copy_file(kTrain, scratch("refs.csv"));
+    fs::create_symlink(scratch("refs.csv"), scratch("refs_link.csv"));
+    const std::string before = test::read_text(scratch("refs.csv"));
+    for (const auto& traces : {scratch("refs.csv"), scratch("refs_link.csv")}) {
+      CAPTURE(traces);
+      std::vector<std::string> args = with({"--traces", traces});
+      args[2] = scratch("refs.csv");  // the --references value
+      const auto r = run_iclap(args, scratch);
+      INFO(r.err);
+      CHECK(r.status == 2);
+      CHECK(r.out.empty());
+      CHECK(r.err.find("--traces '" + traces + "' is the --references file '" + scratch("refs.csv") +
+                       "', which the traces would replace") != std::string::npos);
+    }
+    CHECK(test::read_text(scratch("refs.csv")) == before);
+  }
 }
 
 TEST_CASE("iclap live --cross-validate: the default --fixed counts are those --max-touches allows") {
