@@ -269,18 +269,20 @@ iclap::TouchSet flat_touch(double x, double y, double z, int cols, int rows, dou
 }  // namespace
 
 TEST_CASE("README: occupancy from CAD models tells which model a touch lies on") {
-  // Two solids on the table (x = y = 0 at their centres): a box 20 x 20 mm,
-  // 10 mm tall, and a cylinder of radius 6 mm, 16 mm tall.
+  // Two solids on the table (x = y = 0 at their centres), small so that the
+  // fields are built quickly: a box 12 x 12 mm, 6 mm tall, and a cylinder of
+  // radius 5 mm, 10 mm tall.
   const std::vector<iclap::TriangleMesh> meshes = {
-      iclap::center_on_table(iclap::make_box(Eigen::Vector3d(0.02, 0.02, 0.01))).mesh,
-      iclap::center_on_table(iclap::make_cylinder(0.006, 0.016)).mesh};
-  // On the box: a 6 x 6 pad of 3.4 mm pitch on the top face, its last
-  // column overhanging the edge by 2.5 mm (free). On the cylinder: a 5 x 5
-  // pad of 4.2 mm pitch on the top disc, the outer ring past the rim (free).
+      iclap::center_on_table(iclap::make_box(Eigen::Vector3d(0.012, 0.012, 0.006))).mesh,
+      iclap::center_on_table(iclap::make_cylinder(0.005, 0.01)).mesh};
+  // On the box: a 4 x 4 pad of 3.4 mm pitch on the top face, its last
+  // column overhanging the edge by 2.5 mm (free: more than the free radius
+  // from the box). On the cylinder: a 3 x 3 pad of the same pitch, all of it
+  // on the top disc (a touch may have no free point).
   const std::vector<iclap::TouchSet> touches_on = {
-      flat_touch(0.004, 0, 0.01, 6, 6, 3.4e-3, [](const Eigen::Vector3d& p) { return p.x() < 0.01; }),
-      flat_touch(0, 0, 0.016, 5, 5, 4.2e-3, [](const Eigen::Vector3d& p) { return p.head<2>().norm() < 0.006; })};
-  REQUIRE(touches_on[0].free_points.cols() == 6);
+      flat_touch(0.0034, 0, 0.006, 4, 4, 3.4e-3, [](const Eigen::Vector3d& p) { return p.x() < 0.006; }),
+      flat_touch(0, 0, 0.01, 3, 3, 3.4e-3, [](const Eigen::Vector3d& p) { return p.head<2>().norm() < 0.005; })};
+  REQUIRE(touches_on[0].free_points.cols() == 4);
   REQUIRE(touches_on[1].contact_points.cols() == 9);
 
   iclap::OccupancyClassifier c;          // c.placements.max_shift = 0.02; ...
