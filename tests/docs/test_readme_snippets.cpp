@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <iclap/registration/registration.hpp>
 #include <iclap/recognition/recognition.hpp>
