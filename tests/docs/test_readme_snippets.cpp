@@ -55,9 +55,8 @@ const Eigen::Vector2d kShift(0.002, -0.0015);
 
 // The model seen after the object moved: test = M^-1 model, so that
 // x_model = R x_test + t with R, t the motion above (labels unchanged), plus
-// up to 20 um of deterministic noise on x, y, z, as a sensor gives: on exact
-// data the error falls to rounding noise (1e-33), whose relative changes
-// never meet the relative tolerance, and a real touch is never exact.
+// up to 20 um of deterministic noise on x, y, z, as a sensor gives (a real
+// touch is never exact; test_icp_policies registers exact copies).
 iclap::Cloud<double, 4> moved(const iclap::Cloud<double, 4>& model) {
   const Eigen::Matrix2d R = Eigen::Rotation2Dd(kYaw).toRotationMatrix();
   iclap::Cloud<double, 4> test = model;
