@@ -26,6 +26,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -337,4 +338,41 @@ TEST_CASE("append_utf8: one to four bytes, with the right bytes at every boundar
   std::string together;
   for (const auto& c : cases) append_utf8(together, c.first);
   CHECK(together == all);
+  // Every encoding append_utf8 gives is well-formed UTF-8.
+  CHECK(utf8_error(all) == std::string_view::npos);
+}
+
+TEST_CASE("utf8_error: the offset of the first byte that breaks UTF-8, at every boundary of RFC 3629") {
+  const auto npos = std::string_view::npos;
+  CHECK(utf8_error("") == npos);
+  CHECK(utf8_error("hammer") == npos);
+  CHECK(utf8_error("h\xc3\xa4mmer") == npos);                  // U+00E4
+  CHECK(utf8_error("\xe6\x89\xb3\xe6\x89\x8b") == npos);        // two CJK characters
+  CHECK(utf8_error("\xdf\xbf\xe0\xa0\x80\xed\x9f\xbf\xee\x80\x80\xf0\x90\x80\x80\xf4\x8f\xbf\xbf") == npos);
+  // (text, offset of the lead byte of the first ill-formed sequence)
+  const std::vector<std::pair<std::string, std::size_t>> bad = {
+      {"h\xe4mmer", 1},             // Latin-1: E4 leads a 3-byte sequence, 'm' does not continue it
+      {"ab\xe4", 2},                // cut short at the end
+      {"a\xc3", 1},
+      {"A\xe2\x82\xac\xe2\x82", 4},  // the second euro sign cut after two bytes
+      {"\x80", 0},                  // a continuation byte with no lead
+      {"a\xbf", 1},
+      {"\xc0\x80", 0},              // overlong NUL
+      {"\xc1\xbf", 0},              // overlong U+007F
+      {"\xe0\x9f\xbf", 0},          // overlong U+07FF
+      {"\xed\xa0\x80", 0},          // surrogate U+D800
+      {"\xed\xbf\xbf", 0},          // surrogate U+DFFF
+      {"\xf0\x8f\xbf\xbf", 0},      // overlong U+FFFF
+      {"\xf4\x90\x80\x80", 0},      // U+110000
+      {"\xf5\x80\x80\x80", 0},      // no lead byte above F4
+      {"\xff", 0},
+      {"\xe2\x82x", 0},             // the third byte is no continuation
+      {"\xe2\x82\xac\xbf", 3},      // a fourth byte that continues nothing
+      {"\xf0\x9f\x98", 0},          // a 4-byte sequence cut after 3
+      {"ok \xe2\x82\xac then \xc3", 12},
+  };
+  for (const auto& b : bad) {
+    CAPTURE(b.first);
+    CHECK(utf8_error(b.first) == b.second);
+  }
 }

@@ -228,6 +228,17 @@ TEST_CASE("dataset csv: writer rejects invalid datasets naming the field") {
   d = ds;
   d.cols = 0;
   rejects(d, "dataset.rows/cols");
+  // What the reader refuses, the writer does not write: a name that is not
+  // UTF-8, two frames with the same object, exploration and frame index.
+  d = ds;
+  d.frames[2].object = "h\xe4mmer";
+  rejects(d, "dataset.frames[2].object");
+  d = ds;
+  d.frames[9].object = d.frames[1].object;
+  d.frames[9].exploration = d.frames[1].exploration;
+  d.frames[9].frame = d.frames[1].frame;
+  rejects(d, "dataset.frames[9]");
+  CHECK(writer_refusal(d).find("is also dataset.frames[1] (one row per frame)") != std::string::npos);
 }
 
 TEST_CASE("dataset csv: names with outer white space, orientations not fitting the file are refused naming the frame") {
@@ -369,7 +380,8 @@ TEST_CASE("dataset csv: every malformed case of the spec is rejected with its li
   // Values that are not finite numbers.
   for (const std::string v : {"abc", "nan", "inf", "-inf", "", "1.5.2", "0x10", "1e999", "+-1", "1 2"}) {
     CAPTURE(v);
-    check_rejected(h + ok + ok + "a,0,0," + v + ",0.2,0.3,1,2,3,4\n", 4, "is not a finite number");
+    check_rejected(h + ok + "a,0,1,0.1,0.2,0.3,1,2,3,4\n" + "a,0,2," + v + ",0.2,0.3,1,2,3,4\n", 4,
+                   "is not a finite number");
     check_rejected(h + "a,0,0,0.1,0.2,0.3,1,2," + v + ",4\n", 2, "column 'p1_0'");
   }
   // A control byte in a field is shown escaped: a raw NUL cut the message short.
@@ -428,6 +440,20 @@ TEST_CASE("dataset csv: every malformed case of the spec is rejected with its li
                  "columns qw,qx,qy,qz: the quaternion has norm 0; the pad orientation must be a unit quaternion");
   check_rejected(hq + "a,0,0,0,0,0,2,0,0,0,5\n", 2, "has norm 2;");
   check_rejected("", 0, "no header row");
+  // One row per frame: a second row of the same object, exploration and
+  // frame names the first's line; the same frame index of another
+  // exploration or object, and frames out of order, are fine.
+  check_rejected(h + ok + "a,0,1,0.1,0.2,0.3,1,2,3,4\n" + ok, 4,
+                 "frame 0 of exploration 0 of object 'a' is already on line 2 (one row per frame)");
+  CHECK(read_text(h + ok + "a,1,0,0.1,0.2,0.3,1,2,3,4\nb,0,0,0.1,0.2,0.3,1,2,3,4\n").frames.size() == 3);
+  CHECK(read_text(h + "a,0,5,0.1,0.2,0.3,1,2,3,4\n" + ok).frames.at(1).frame == 0);
+  // Object names are UTF-8 text (the spec): a Latin-1 name or a cut
+  // character is refused with the byte; any well-formed name is taken.
+  check_rejected(h + "h\xe4mmer,0,0,0.1,0.2,0.3,1,2,3,4\n", 2,
+                 "is not UTF-8: byte 0xE4 at offset 1 starts no well-formed character");
+  check_rejected(h + ok + "pliers\xc3,0,0,0.1,0.2,0.3,1,2,3,4\n", 3, "is not UTF-8: byte 0xC3 at offset 6");
+  check_rejected(h + "\xed\xa0\x80,0,0,0.1,0.2,0.3,1,2,3,4\n", 2, "is not UTF-8: byte 0xED at offset 0");
+  CHECK(read_text(h + "h\xc3\xa4mmer,0,0,0.1,0.2,0.3,1,2,3,4\n").frames.at(0).object == "h\xc3\xa4mmer");
 }
 
 TEST_CASE("dataset csv: fixtures and summary helpers") {

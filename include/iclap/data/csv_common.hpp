@@ -17,6 +17,7 @@
 
 #include "iclap/core/error.hpp"
 #include "iclap/core/types.hpp"
+#include "iclap/core/utf8.hpp"
 #include "iclap/data/dataset.hpp"
 
 namespace iclap {
@@ -91,6 +92,15 @@ inline std::string object_name_problem(std::string_view name) {
   if (name.front() == ' ' || name.front() == '\t' || name.back() == ' ' || name.back() == '\t')
     return "has leading or trailing white space";
   if (name.front() == '#') return "starts with '#'";
+  // The format is UTF-8 text; other bytes would go on into results files,
+  // SVG figures and file names (a Latin-1 "h\xe4mmer", a cut character).
+  const std::size_t bad = utf8_error(name);
+  if (bad != std::string_view::npos) {
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "0x%02X", static_cast<unsigned>(static_cast<unsigned char>(name[bad])));
+    return "is not UTF-8: byte " + std::string(hex) + " at offset " + std::to_string(bad) +
+           " starts no well-formed character";
+  }
   return {};
 }
 

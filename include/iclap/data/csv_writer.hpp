@@ -3,8 +3,12 @@
 
 // Writer of the haptic dataset CSV (README, "Dataset format").
 
+#include <cstddef>
+#include <cstdint>
+#include <map>
 #include <ostream>
 #include <string>
+#include <tuple>
 
 #include "iclap/core/error.hpp"
 #include "iclap/data/csv_common.hpp"
@@ -60,15 +64,29 @@ inline std::string header_text(const std::vector<std::string>& comments, const D
 /// `read_dataset_csv` of the output gives identical values, and the bytes are
 /// a pure function of `ds` ('\n' line endings, no locale). The whole dataset
 /// is validated before the first byte is written: InvalidArgument names the
-/// frame and field (object name with a comma or quote, pressures of the wrong
-/// size, negative or non-finite values, `t` or orientation on only some
-/// frames, a comment with a line break). O(frames x taxels).
+/// frame and field (object name with a comma or quote or not UTF-8,
+/// pressures of the wrong size, negative or non-finite values, `t` or
+/// orientation on only some frames, a comment with a line break, two frames
+/// with the same object, exploration and frame index). O(frames x taxels +
+/// frames log frames).
 inline void write_dataset_csv(std::ostream& out, const Dataset& ds) {
   detail::validate_grid(ds.rows, ds.cols, "dataset.rows/cols");
   detail::validate_comments(ds.comments, "dataset.comments");
   const DatasetColumns columns = dataset_columns(ds);
-  for (std::size_t i = 0; i < ds.frames.size(); ++i)
-    detail::validate_frame(ds.frames[i], columns, "dataset.frames[" + std::to_string(i) + "]");
+  // One row per frame, as the reader requires: the index of each
+  // (object, exploration, frame) seen.
+  std::map<std::tuple<std::string, std::int64_t, std::int64_t>, std::size_t> seen;
+  for (std::size_t i = 0; i < ds.frames.size(); ++i) {
+    const Frame& f = ds.frames[i];
+    const std::string where = "dataset.frames[" + std::to_string(i) + "]";
+    detail::validate_frame(f, columns, where);
+    const auto placed = seen.emplace(std::make_tuple(f.object, f.exploration, f.frame), i);
+    if (!placed.second)
+      throw InvalidArgument(where, "frame " + std::to_string(f.frame) + " of exploration " +
+                                       std::to_string(f.exploration) + " of object " + quote_text(f.object, 60) +
+                                       " is also dataset.frames[" + std::to_string(placed.first->second) +
+                                       "] (one row per frame)");
+  }
   const auto slots = detail::writer_slots(columns);
   std::string buf = detail::header_text(ds.comments, columns);
   for (const Frame& f : ds.frames) {
