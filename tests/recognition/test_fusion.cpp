@@ -85,7 +85,7 @@ TEST_CASE("bad compositions fail at construction with a clear message") {
   std::vector<std::unique_ptr<Classifier>> cs2;
   cs2.push_back(std::make_unique<BowClassifier>());
   const Recognizer zrec(std::move(cs2), Normalization::ZScore);
-  CHECK(error_of([&] { zrec.check({parse_method("bow*bow")}); }).find("z-score") != std::string::npos);
+  CHECK(error_of([&] { zrec.check({Method{"bow*bow", bow * bow, false, {}}}); }).find("z-score") != std::string::npos);
   CHECK_NOTHROW(zrec.check({parse_method("bow")}));
   // Evaluating without a classifier's distances.
   const auto t = table_of({{"icp", vec({0.1, 0.2})}});
@@ -242,6 +242,20 @@ TEST_CASE("method names, parsing and the weight grid") {
   CHECK(error_of([] { parse_method("ic p+bow"); }).find("unexpected 'p+bow' (at character 4)") != std::string::npos);
   CHECK(error_of([] { parse_method("0.5 icp"); }).find("a weight must be followed by '*'") != std::string::npos);
   CHECK(error_of([] { parse_method("-icp"); }).find("expected a classifier name") != std::string::npos);
+  // A term given twice: a fitted sum's grid would choose among splits that
+  // all give the same fusion, a product ranks as the factor alone does.
+  CHECK(error_of([] { parse_method("icp+icp"); }) ==
+        "method | method: 'icp+icp': 'icp' appears twice in one sum; give each classifier (or bracketed term) once "
+        "(at character 8)");
+  CHECK(error_of([] { parse_method("icp+bow+icp"); }).find("'icp' appears twice in one sum") != std::string::npos);
+  CHECK(error_of([] { parse_method("iclap*icp*icp"); }).find("'icp' appears twice in one product") !=
+        std::string::npos);
+  CHECK(error_of([] { parse_method("(0.5*icp+0.5*bow)+(0.5*icp+0.5*bow)"); })
+            .find("'0.5*icp+0.5*bow' appears twice in one sum") != std::string::npos);
+  // A classifier in two different terms is a real fusion, and so is a sum
+  // whose weights are given.
+  CHECK(parse_method("icp*bow+icp").classifiers() == std::vector<std::string>{"icp", "bow"});
+  CHECK(parse_method("0.5*icp+0.5*icp").fusion.weights() == std::vector<double>{0.5, 0.5});
 
   const auto g2 = weight_grid(2);
   REQUIRE(g2.size() == 9);

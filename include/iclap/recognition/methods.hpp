@@ -147,6 +147,9 @@ class MethodParser {
     if (weighted != 0 && weighted != static_cast<int>(terms.size()))
       fail("give a weight for every term of a sum, or for none (then they are fitted)");
     if (weighted == 0) {
+      // A term given twice: every split of their weight gives the same
+      // fusion, so the grid's choice would mean nothing ("icp+icp", a typo).
+      refuse_repeated(terms, [](const std::pair<double, Fusion>& t) { return t.second.to_string(); }, "sum");
       // Weights to be chosen by the grid: start from uniform ones.
       fit = true;
       const double u = 1.0 / static_cast<double>(terms.size());
@@ -161,7 +164,20 @@ class MethodParser {
   Fusion product() {
     std::vector<Fusion> factors{factor()};
     while (eat('*')) factors.push_back(factor());
+    // A factor given twice ranks the objects as it alone does ("icp*icp").
+    refuse_repeated(factors, [](const Fusion& f) { return f.to_string(); }, "product");
     return factors.size() == 1 ? factors.front() : Fusion::product(std::move(factors));
+  }
+
+  /// fail() naming the first item of `items` whose text (`text_of`) an
+  /// earlier one has.
+  template <typename Item, typename TextOf>
+  void refuse_repeated(const std::vector<Item>& items, TextOf text_of, const char* what) const {
+    for (std::size_t i = 1; i < items.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j)
+        if (text_of(items[i]) == text_of(items[j]))
+          fail(quote_text(text_of(items[i]), 40) + " appears twice in one " + what +
+               "; give each classifier (or bracketed term) once");
   }
 
   Fusion factor() {
