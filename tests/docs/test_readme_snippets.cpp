@@ -177,8 +177,12 @@ std::vector<iclap::TouchSet> small_training_set() {
       if (o == 0) s.positions.col(i) << -0.05 + 0.1 * static_cast<double>(i) / 11, 0.002 * std::sin(7.0 * static_cast<double>(i)), z;
       if (o == 1) s.positions.col(i) << 0.03 * std::cos(a), 0.03 * std::sin(a), z;
       if (o == 2) s.positions.col(i) << 0.01 * static_cast<double>(i % 4), 0.01 * static_cast<double>(i / 4), z;
-      const Eigen::Vector2f kind = o == 0 ? Eigen::Vector2f(1, 0) : o == 1 ? Eigen::Vector2f(0, 1) : Eigen::Vector2f(1, 1);
-      s.features.col(i) = kind + 0.02f * Eigen::Vector2f(std::sin(static_cast<float>(i)), std::cos(static_cast<float>(i)));
+      // Feature (1, 0), (0, 1) or (1, 1) by object, plus a little spread;
+      // written by coefficient: g++ 12 -O3 warned (-Warray-bounds, a false
+      // positive) on a fixed 2-vector expression assigned to a column.
+      const float fx = o == 1 ? 0.0f : 1.0f, fy = o == 0 ? 0.0f : 1.0f;
+      s.features(0, i) = fx + 0.02f * std::sin(static_cast<float>(i));
+      s.features(1, i) = fy + 0.02f * std::cos(static_cast<float>(i));
     }
   }
   return objects;
