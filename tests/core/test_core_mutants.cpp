@@ -366,7 +366,10 @@ TEST_CASE("utf8_error: the offset of the first byte that breaks UTF-8, at every 
       {"\xf4\x90\x80\x80", 0},      // U+110000
       {"\xf5\x80\x80\x80", 0},      // no lead byte above F4
       {"\xff", 0},
-      {"\xe2\x82x", 0},             // the third byte is no continuation
+      {"\xe2\x82x", 0},             // the third byte is no continuation: below 0x80
+      {"\xe2\x82\xc0", 0},          // ... or above 0xBF
+      {"\xf0\x9f\x98\xff", 0},      // the fourth likewise
+      {"\xc3\xc3\xa4", 0},          // a lead byte where a continuation belongs
       {"\xe2\x82\xac\xbf", 3},      // a fourth byte that continues nothing
       {"\xf0\x9f\x98", 0},          // a 4-byte sequence cut after 3
       {"ok \xe2\x82\xac then \xc3", 12},
