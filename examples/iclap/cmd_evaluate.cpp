@@ -605,6 +605,11 @@ void check_cloud_file_names(const std::vector<std::string>& objects) {
   }
 }
 
+/// Whether `name` is a figure's file name as the runs write them (fig_*.svg).
+bool is_figure_name(const std::string& name) {
+  return name.size() > 8 && name.compare(0, 4, "fig_") == 0 && name.compare(name.size() - 4, 4, ".svg") == 0;
+}
+
 /// Throws UsageError when the dataset `input` is a file the run writes into
 /// OUT (a table or a figure): committing the results would replace it. A
 /// link is followed: what it leads to is what would be lost.
@@ -615,10 +620,27 @@ void check_input_not_replaced(const std::string& input, const fs::path& out) {
   if (!fs::equivalent(real.parent_path(), out, ec)) return;
   const std::string name = real.filename().string();
   const bool table = name == "results.csv" || name == "weights.csv" || name == "confusion.csv" || name == "sweeps.csv";
-  const bool figure = name.size() > 8 && name.compare(0, 4, "fig_") == 0 && name.compare(name.size() - 4, 4, ".svg") == 0;
+  const bool figure = is_figure_name(name);
   if (table || figure)
     throw UsageError("--out " + quote_text(out.string()) + " would replace the dataset " + quote_text(input) +
                      " with the run's " + name + "; give another --out or move the dataset");
+}
+
+/// The outputs of an earlier run in `out` that this run did not write (its
+/// figures are `figures`; `exported`: it wrote references/): figures of
+/// methods it did not run and clouds it did not export, which would
+/// otherwise pass for its own. Sorted; they are kept, not removed.
+std::vector<std::string> stale_outputs(const fs::path& out, const std::vector<std::string>& figures, bool exported) {
+  std::vector<std::string> stale;
+  std::error_code ec;
+  for (fs::directory_iterator it(out, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const bool figure = is_figure_name(name);
+    if (figure && std::find(figures.begin(), figures.end(), name) == figures.end()) stale.push_back(name);
+    if (name == "references" && !exported) stale.push_back("references/");
+  }
+  std::sort(stale.begin(), stale.end());
+  return stale;
 }
 
 int run_evaluate(const Args& args) {
@@ -780,6 +802,10 @@ int run_evaluate(const Args& args) {
   std::printf("\nwrote %s: results.csv, weights.csv, confusion.csv, sweeps.csv", out.string().c_str());
   for (const auto& f : figures) std::printf(", %s", f.c_str());
   if (opt.flag("export-ply")) std::printf(", references/*.ply");
+  const std::vector<std::string> stale = stale_outputs(out, figures, opt.flag("export-ply"));
+  if (!stale.empty())
+    std::printf("\nnote: %s also holds %s from an earlier run, which this run did not write", out.string().c_str(),
+                Options::join(stale, ", ").c_str());
   std::printf("\ntotal time %.1f s\n", secs);
   return kExitOk;
 }

@@ -21,6 +21,8 @@
 #   long_cloud_name      --export-ply with an object whose OBJECT.ply name is
 #                        longer than a file name may be: refused before the
 #                        run (it failed at the end, keeping nothing of it)
+#   stale_outputs        figures and clouds an earlier run left in DIR that
+#                        this run does not write are named on stdout, kept
 cmake_minimum_required(VERSION 3.16)  # policies: GLOB_RECURSE does not follow links
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
@@ -207,6 +209,21 @@ elseif(CASE STREQUAL "long_cloud_name")
   # Without --export-ply the name is no file name.
   run(${ICLAP} evaluate ${WORK_DIR}/long.csv --methods bow,icp --touches 1 --repeats 1 --out ${res})
   expect_file_lines(${res}/results.csv 3 "icp,1,")
+
+elseif(CASE STREQUAL "stale_outputs")
+  # Figures and clouds of an earlier run that this one does not write are
+  # kept (nothing in DIR is removed) and named, so that they do not pass
+  # for this run's; a run that writes them all names nothing.
+  run(${second} --export-ply)
+  run(${evaluate} --methods bow,icp --out ${res})
+  expect_match("${out}" "\nnote: [^\n]*res also holds fig_weights_icppbow\\.svg, references/ from an earlier run, which this run did not write\n")
+  if(NOT EXISTS ${res}/fig_weights_icppbow.svg OR NOT IS_DIRECTORY ${res}/references)
+    message(FATAL_ERROR "the earlier run's figure or clouds were removed")
+  endif()
+  run(${second} --export-ply)
+  if(out MATCHES "note: [^\n]*also holds")
+    message(FATAL_ERROR "a run that wrote every output named some as an earlier run's:\n${out}")
+  endif()
 
 else()
   message(FATAL_ERROR "unknown CASE '${CASE}'")
