@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -203,11 +202,6 @@ int run_register(const iclap::cli::Args& args) {
   q.align_centroids = opt.flag("align-centroids");
   q.json = opt.flag("json");
 
-  // A directory would be refused as a bare "read error".
-  for (const auto* path : {&q.model_path, &q.test_path}) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(*path, ec)) throw iclap::IoError(*path, "is a directory, not a point file");
-  }
   q.model = iclap::read_point_file(q.model_path, &q.model_lines);
   q.test = iclap::read_point_file(q.test_path, &q.test_lines);
   if (q.test.rows() != q.model.rows())

@@ -71,6 +71,15 @@ TEST_CASE("point files: every malformed case names the file and the line") {
         "pts.txt:1: carriage return inside the line (line breaks must be \\n or \\r\\n)");
   CHECK(error_of("x y z\r0 0 0\r") == "pts.txt:1: carriage return inside the line (line breaks must be \\n or \\r\\n)");
   CHECK_THROWS_AS(read_point_file("/nonexistent/points.txt"), IoError);
+  // A directory opens as a stream that fails at its first read: named as a
+  // directory, not as a bare "read error".
+  std::string directory_error = "(no error)";
+  try {
+    read_point_file(ICLAP_TEST_FIXTURES);
+  } catch (const IoError& e) {
+    directory_error = e.what();
+  }
+  CHECK(directory_error == std::string(ICLAP_TEST_FIXTURES) + ": is a directory, not a point file");
 }
 
 TEST_CASE("point files: a first line with a number in it is a point, never a dropped header") {

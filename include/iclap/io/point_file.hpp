@@ -6,9 +6,11 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <istream>
 #include <string>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -134,8 +136,11 @@ inline Eigen::MatrixXd read_point_file(std::istream& in, const std::string& name
   return points;
 }
 
-/// Same, from a file path (errors name the path).
+/// Same, from a file path (errors name the path; a directory is named as
+/// such, as read_dataset_csv does: the stream would say only "read error").
 inline Eigen::MatrixXd read_point_file(const std::string& path, std::vector<std::size_t>* lines = nullptr) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw IoError(path, "is a directory, not a point file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path, std::string("cannot open: ") + std::strerror(errno));
   return read_point_file(in, path, lines);
