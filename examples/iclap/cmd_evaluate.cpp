@@ -287,6 +287,9 @@ void write_figures(const fs::path& out, const CrossValidationResult& r, std::vec
   }
 }
 
+/// The tables write_tables writes into OUT, in the order they are listed.
+const std::vector<std::string> kTableFiles = {"results.csv", "weights.csv", "confusion.csv", "sweeps.csv"};
+
 void write_tables(const fs::path& out, const CrossValidationResult& r) {
   std::string results = "method,touches,rate,correct,total,fold_rate_std\n";
   for (const auto& m : r.methods)
@@ -619,9 +622,8 @@ void check_input_not_replaced(const std::string& input, const fs::path& out) {
   if (ec) return;  // a missing or unreadable FILE is named by the reader
   if (!fs::equivalent(real.parent_path(), out, ec)) return;
   const std::string name = real.filename().string();
-  const bool table = name == "results.csv" || name == "weights.csv" || name == "confusion.csv" || name == "sweeps.csv";
-  const bool figure = is_figure_name(name);
-  if (table || figure)
+  const bool table = std::find(kTableFiles.begin(), kTableFiles.end(), name) != kTableFiles.end();
+  if (table || is_figure_name(name))
     throw UsageError("--out " + quote_text(out.string()) + " would replace the dataset " + quote_text(input) +
                      " with the run's " + name + "; give another --out or move the dataset");
 }
@@ -635,8 +637,7 @@ std::vector<std::string> stale_outputs(const fs::path& out, const std::vector<st
   std::error_code ec;
   for (fs::directory_iterator it(out, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    const bool figure = is_figure_name(name);
-    if (figure && std::find(figures.begin(), figures.end(), name) == figures.end()) stale.push_back(name);
+    if (is_figure_name(name) && std::find(figures.begin(), figures.end(), name) == figures.end()) stale.push_back(name);
     if (name == "references" && !exported) stale.push_back("references/");
   }
   std::sort(stale.begin(), stale.end());
@@ -676,7 +677,7 @@ int run_evaluate(const Args& args) {
     StagedOutput probe(out);
     std::vector<fs::path> dirs;
     if (opt.flag("export-ply")) dirs.emplace_back("references");
-    probe.check({"results.csv", "weights.csv", "confusion.csv", "sweeps.csv"}, dirs);
+    probe.check(std::vector<fs::path>(kTableFiles.begin(), kTableFiles.end()), dirs);
   }
   if (!opt.positional().empty()) check_input_not_replaced(opt.positional()[0], out);
   const auto sim_seed = static_cast<std::uint64_t>(opt.integer("sim-seed", 1, 0));
@@ -799,7 +800,7 @@ int run_evaluate(const Args& args) {
     if (opt.flag("export-ply")) export_reference_clouds(dir, table, ro);
   });
   staged.commit();
-  std::printf("\nwrote %s: results.csv, weights.csv, confusion.csv, sweeps.csv", out.string().c_str());
+  std::printf("\nwrote %s: %s", out.string().c_str(), Options::join(kTableFiles, ", ").c_str());
   for (const auto& f : figures) std::printf(", %s", f.c_str());
   if (opt.flag("export-ply")) std::printf(", references/*.ply");
   const std::vector<std::string> stale = stale_outputs(out, figures, opt.flag("export-ply"));
