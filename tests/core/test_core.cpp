@@ -133,6 +133,26 @@ TEST_CASE("quote_text: control bytes escaped, long text cut outside UTF-8 sequen
   CHECK(quote_text("abcd", 4) == "'abcd'");
   // Cut before a two-byte sequence that would straddle the limit.
   CHECK(quote_text("abc\xc3\xbc", 4) == "'abc...'");
+  // Bytes that form no UTF-8 character are escaped too, so the message is
+  // UTF-8 whatever the input (a Latin-1 name, a cut character, a stray
+  // continuation byte, an overlong form, a surrogate), and the characters
+  // around them are kept.
+  CHECK(quote_text("h\xe4mmer") == "'h\\xe4mmer'");
+  CHECK(quote_text("pliers\xc3") == "'pliers\\xc3'");
+  CHECK(quote_text("\xbc\xc3\xbc\xff") == "'\\xbc\xc3\xbc\\xff'");
+  CHECK(quote_text("\xc0\xaf") == "'\\xc0\\xaf'");
+  CHECK(quote_text("\xed\xa0\x80") == "'\\xed\\xa0\\x80'");
+  CHECK(quote_text("\xf0\x9f\x98\x80!") == "'\xf0\x9f\x98\x80!'");
+  CHECK(utf8_error(quote_text("\xe4\x80\xc3\x00\xff\xf4\x90\x80\x80"s)) == std::string_view::npos);
+  const std::string_view mixed = "a\xc3\xa4\xe2\x82\xac\xf0\x9f\x98\x80\xe2\x82";
+  CHECK(utf8_sequence_length(mixed, 0) == 1);
+  CHECK(utf8_sequence_length(mixed, 1) == 2);
+  CHECK(utf8_sequence_length(mixed, 3) == 3);
+  CHECK(utf8_sequence_length(mixed, 6) == 4);
+  CHECK(utf8_sequence_length(mixed, 2) == 0);   // a continuation byte
+  CHECK(utf8_sequence_length(mixed, 10) == 0);  // the euro sign cut short
+  // An escaped byte counts as one byte of the limit.
+  CHECK(quote_text("ab\xe4\xe4", 3) == "'ab\\xe4...'");
   CHECK(format_value(1e-310) == "1e-310");
   CHECK(format_value(0.5) == "0.5");
 }

@@ -113,9 +113,10 @@ TEST_CASE("ParseError keeps file, 1-based line and reason apart") {
   CHECK(ParseError("mesh.obj", 0, "no faces").line() == 0);  // the whole file
 }
 
-TEST_CASE("quote_text escapes exactly the control bytes, as two lowercase hex digits, and cuts between characters") {
-  // Every byte alone: escaped as \xNN when below 0x20 or 0x7f, kept otherwise
-  // (space and UTF-8 bytes included).
+TEST_CASE("quote_text escapes exactly the control bytes and the bytes of no UTF-8 character, and cuts between characters") {
+  // Every byte alone: escaped as \xNN (two lowercase hex digits) when below
+  // 0x20 or 0x7f, or from 0x80 (alone, no such byte is a UTF-8 character);
+  // kept otherwise (space included).
   int escaped = 0;
   for (int b = 0; b < 256; ++b) {
     CAPTURE(b);
@@ -124,10 +125,10 @@ TEST_CASE("quote_text escapes exactly the control bytes, as two lowercase hex di
     std::snprintf(hex, sizeof hex, "\\x%02x", b);
     const bool control = b < 0x20 || b == 0x7f;
     CHECK(is_control_byte(static_cast<unsigned char>(b)) == control);
-    CHECK(quote_text(one) == (control ? "'" + std::string(hex) + "'" : "'" + one + "'"));
-    escaped += control;
+    CHECK(quote_text(one) == (control || b >= 0x80 ? "'" + std::string(hex) + "'" : "'" + one + "'"));
+    escaped += control || b >= 0x80;
   }
-  CHECK(escaped == 33);
+  CHECK(escaped == 33 + 128);
   CHECK(quote_text("jaw width") == "'jaw width'");
   // A cut that falls on a character boundary keeps every whole character
   // before it, multi-byte ones included.

@@ -11,6 +11,8 @@
 #include <typeinfo>
 #include <utility>
 
+#include "iclap/core/utf8.hpp"
+
 namespace iclap {
 
 /// Base of every exception the library throws. Catch this to catch them all.
@@ -162,30 +164,35 @@ std::string format_exact(T v) {
 inline bool is_control_byte(unsigned char b) { return b < 0x20 || b == 0x7f; }
 
 /// `text` quoted for an error message: 'text', with every control byte
-/// (below 0x20, and 0x7f) written as \xNN, so a NUL in the input cannot
-/// cut a message short nor a carriage return overwrite it on a terminal.
-/// With `max_bytes` > 0, a longer text is cut after max_bytes bytes (not
-/// inside a UTF-8 sequence) and ends in "...". Bytes from 0x80 (UTF-8
-/// names) are kept.
+/// (below 0x20, and 0x7f) and every byte that is not part of a well-formed
+/// UTF-8 sequence (a Latin-1 \xe4, a cut character) written as \xNN, so a
+/// NUL in the input cannot cut a message short, a carriage return cannot
+/// overwrite it on a terminal, and the message is UTF-8 whatever the input.
+/// Well-formed UTF-8 characters (names like "zange_m\xc3\xbcller") are
+/// kept. With `max_bytes` > 0, a longer text is cut after at most max_bytes
+/// of its bytes (never inside a character) and ends in "...".
 inline std::string quote_text(std::string_view text, std::size_t max_bytes = 0) {
-  bool cut = false;
-  if (max_bytes > 0 && text.size() > max_bytes) {
-    std::size_t n = max_bytes;
-    while (n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0) == 0x80) --n;  // text[n] starts the rest
-    text = text.substr(0, n);
-    cut = true;
-  }
+  const bool cut = max_bytes > 0 && text.size() > max_bytes;
+  const std::size_t limit = cut ? max_bytes : text.size();
   static constexpr char kHex[] = "0123456789abcdef";
   std::string out = "'";
-  for (const char ch : text) {
-    const auto b = static_cast<unsigned char>(ch);
-    if (is_control_byte(b)) {
+  for (std::size_t i = 0; i < limit;) {
+    const std::size_t n = utf8_sequence_length(text, i);
+    if (n > 1) {  // a whole character, kept if it fits
+      if (i + n > limit) break;
+      out.append(text.substr(i, n));
+      i += n;
+      continue;
+    }
+    const auto b = static_cast<unsigned char>(text[i]);
+    if (n == 0 || is_control_byte(b)) {
       out += "\\x";
       out += kHex[b >> 4];
       out += kHex[b & 0xf];
     } else {
-      out += ch;
+      out += text[i];
     }
+    ++i;
   }
   return out + (cut ? "...'" : "'");
 }

@@ -30,42 +30,49 @@ inline void append_utf8(std::string& out, std::uint32_t c) {
   }
 }
 
+/// The length (2 to 4) of the well-formed multi-byte UTF-8 sequence that
+/// starts at `text[i]`, 1 for an ASCII byte, or 0 when the byte at `i`
+/// starts no well-formed sequence (RFC 3629: no overlong forms, no
+/// surrogates, nothing above U+10FFFF, no sequence cut short, no
+/// continuation byte without its lead). `i` must be below text.size().
+inline std::size_t utf8_sequence_length(std::string_view text, std::size_t i) noexcept {
+  const auto b = static_cast<unsigned char>(text[i]);
+  if (b < 0x80) return 1;
+  // The sequence's length and the range of its second byte (the first
+  // continuation byte is where overlong forms, surrogates and values
+  // above U+10FFFF show).
+  std::size_t n = 0;
+  unsigned char lo = 0x80, hi = 0xBF;
+  if (b >= 0xC2 && b <= 0xDF) {
+    n = 2;
+  } else if (b >= 0xE0 && b <= 0xEF) {
+    n = 3;
+    if (b == 0xE0) lo = 0xA0;  // overlong below U+0800
+    if (b == 0xED) hi = 0x9F;  // surrogates U+D800..U+DFFF
+  } else if (b >= 0xF0 && b <= 0xF4) {
+    n = 4;
+    if (b == 0xF0) lo = 0x90;  // overlong below U+10000
+    if (b == 0xF4) hi = 0x8F;  // above U+10FFFF
+  } else {
+    return 0;  // a continuation byte, an overlong C0/C1 lead, or F5..FF
+  }
+  for (std::size_t k = 1; k < n; ++k) {
+    if (i + k >= text.size()) return 0;
+    const auto c = static_cast<unsigned char>(text[i + k]);
+    if (c < (k == 1 ? lo : 0x80) || c > (k == 1 ? hi : 0xBF)) return 0;
+  }
+  return n;
+}
+
 /// The offset of the first byte of `text` that does not start a
-/// well-formed UTF-8 sequence (RFC 3629: no overlong forms, no surrogates,
-/// nothing above U+10FFFF, no sequence cut short, no continuation byte
-/// without its lead), or std::string_view::npos when the whole text is
-/// UTF-8. For a Latin-1 "h\xe4mmer" it is 1, the E4. O(size).
+/// well-formed UTF-8 sequence (see utf8_sequence_length), or
+/// std::string_view::npos when the whole text is UTF-8. For a Latin-1
+/// "h\xe4mmer" it is 1, the E4. O(size).
 inline std::size_t utf8_error(std::string_view text) noexcept {
   std::size_t i = 0;
   while (i < text.size()) {
-    const auto b = static_cast<unsigned char>(text[i]);
-    if (b < 0x80) {
-      ++i;
-      continue;
-    }
-    // The sequence's length and the range of its second byte (the first
-    // continuation byte is where overlong forms, surrogates and values
-    // above U+10FFFF show).
-    std::size_t n = 0;
-    unsigned char lo = 0x80, hi = 0xBF;
-    if (b >= 0xC2 && b <= 0xDF) {
-      n = 2;
-    } else if (b >= 0xE0 && b <= 0xEF) {
-      n = 3;
-      if (b == 0xE0) lo = 0xA0;  // overlong below U+0800
-      if (b == 0xED) hi = 0x9F;  // surrogates U+D800..U+DFFF
-    } else if (b >= 0xF0 && b <= 0xF4) {
-      n = 4;
-      if (b == 0xF0) lo = 0x90;  // overlong below U+10000
-      if (b == 0xF4) hi = 0x8F;  // above U+10FFFF
-    } else {
-      return i;  // a continuation byte, an overlong C0/C1 lead, or F5..FF
-    }
-    for (std::size_t k = 1; k < n; ++k) {
-      if (i + k >= text.size()) return i;
-      const auto c = static_cast<unsigned char>(text[i + k]);
-      if (c < (k == 1 ? lo : 0x80) || c > (k == 1 ? hi : 0xBF)) return i;
-    }
+    const std::size_t n = utf8_sequence_length(text, i);
+    if (n == 0) return i;
     i += n;
   }
   return std::string_view::npos;
