@@ -676,3 +676,114 @@ TEST_CASE("dataset csv appender: an existing file that ends with its header, wit
   CHECK(slurp(path) == "# c\nobject,exploration,frame,x,y,z,p0_0,p0_1\nb,4,1,1,2,3,5,6\n");
   CHECK(iclap::read_dataset_csv(path).frames.size() == 1);
 }
+
+TEST_CASE("dataset csv appender: a second row of a frame is refused, naming the line of the first, in the file or appended since") {
+  // The reader allows one row per (object, exploration, frame); an appender
+  // that wrote a second one would leave a file nothing can read.
+  TempDir dir("data_appender_duplicate");
+  const Frame f = appended_frame();
+  const auto refusal = [](const std::string& path, std::size_t line) {
+    return "frame: frame 1 of exploration 4 of object 'b' is already in " + path + ", line " + std::to_string(line) +
+           " (one row per frame)";
+  };
+
+  // Appended since: two comments and the header, so the row is line 4.
+  const std::string path = dir.file("log.csv");
+  {
+    iclap::DatasetCsvAppender app(path, 1, 2, false, false, {"one", "two"});
+    app.append(f);
+    const std::string before = slurp(path);
+    CHECK_THROWS_WITH_AS(app.append(f), refusal(path, 4).c_str(), iclap::InvalidArgument);
+    CHECK(slurp(path) == before);
+    CHECK(app.rows_in_file() == 1);
+    // Another frame, exploration or object is another row.
+    Frame g = f;
+    g.frame = 2;
+    app.append(g);
+    g.exploration = 5;
+    app.append(g);
+    g.object = "c";
+    app.append(g);
+    CHECK_THROWS_WITH_AS(app.append(g),
+                         ("frame: frame 2 of exploration 5 of object 'c' is already in " + path +
+                          ", line 7 (one row per frame)")
+                             .c_str(),
+                         iclap::InvalidArgument);
+    // The index goes with a move.
+    iclap::DatasetCsvAppender moved(std::move(app));
+    CHECK_THROWS_WITH_AS(moved.append(f), refusal(path, 4).c_str(), iclap::InvalidArgument);
+    CHECK(moved.rows_in_file() == 4);
+    g.frame = 1;
+    moved.append(g);  // line 8
+    CHECK_THROWS_WITH_AS(moved.append(g),
+                         ("frame: frame 1 of exploration 5 of object 'c' is already in " + path +
+                          ", line 8 (one row per frame)")
+                             .c_str(),
+                         iclap::InvalidArgument);
+  }
+  CHECK(iclap::read_dataset_csv(path).frames.size() == 5);
+
+  // In the file: its rows are indexed on opening, by the line the reader
+  // would name (BOM, CRLF, comments and blank lines counted; any column
+  // order; an integer written as the reader reads it, '+4' and '04' are 4).
+  const std::string foreign = dir.file("foreign.csv");
+  spit(foreign,
+       "\xEF\xBB\xBF# exported\r\nz,y,x,p0_1,p0_0,frame,exploration,object\r\n\r\n0.3,0.2,0.1,2,1,0,4,b\r\n"
+       "0.3,0.2,0.1,2,1, +1 ,04, b \r\n");
+  {
+    iclap::DatasetCsvAppender app(foreign, 1, 2, false, false);
+    CHECK(app.rows_in_file() == 2);
+    CHECK_THROWS_WITH_AS(app.append(f), refusal(foreign, 5).c_str(), iclap::InvalidArgument);
+    Frame g = f;
+    g.frame = 0;
+    CHECK_THROWS_WITH_AS(app.append(g),
+                         ("frame: frame 0 of exploration 4 of object 'b' is already in " + foreign +
+                          ", line 4 (one row per frame)")
+                             .c_str(),
+                         iclap::InvalidArgument);
+    g.frame = 2;
+    app.append(g);  // line 6
+    g.frame = 3;
+    app.append(g);  // line 7
+    g.frame = 2;
+    CHECK_THROWS_WITH_AS(app.append(g),
+                         ("frame: frame 2 of exploration 4 of object 'b' is already in " + foreign +
+                          ", line 6 (one row per frame)")
+                             .c_str(),
+                         iclap::InvalidArgument);
+  }
+  CHECK(iclap::read_dataset_csv(foreign).frames.size() == 4);
+
+  // A partial last row cut off on opening is not a row: the next row takes
+  // its line, and its frame is free.
+  const std::string cut = dir.file("cut.csv");
+  spit(cut, "object,exploration,frame,x,y,z,p0_0,p0_1\nb,4,0,1,2,3,5,6\nb,4,1,1,2");
+  {
+    iclap::DatasetCsvAppender app(cut, 1, 2, false, false);
+    CHECK(app.recovered_bytes() == 9);
+    app.append(f);  // frame 1, on line 3
+    CHECK_THROWS_WITH_AS(app.append(f), refusal(cut, 3).c_str(), iclap::InvalidArgument);
+  }
+  CHECK(slurp(cut) == "object,exploration,frame,x,y,z,p0_0,p0_1\nb,4,0,1,2,3,5,6\nb,4,1,1,2,3,5,6\n");
+
+  // A file that ends with its header, without a line break: the first row
+  // is line 2.
+  const std::string header_only = dir.file("header.csv");
+  spit(header_only, "object,exploration,frame,x,y,z,p0_0,p0_1");
+  {
+    iclap::DatasetCsvAppender app(header_only, 1, 2, false, false);
+    app.append(f);
+    CHECK_THROWS_WITH_AS(app.append(f), refusal(header_only, 2).c_str(), iclap::InvalidArgument);
+  }
+
+  // A row whose frame the reader refuses anyway (not an integer) is counted
+  // and not indexed: the appender neither fails on it nor guesses its frame.
+  const std::string broken = dir.file("broken.csv");
+  spit(broken, "object,exploration,frame,x,y,z,p0_0,p0_1\nb,4,one,1,2,3,5,6\nb,4\n");
+  {
+    iclap::DatasetCsvAppender app(broken, 1, 2, false, false);
+    CHECK(app.rows_in_file() == 2);
+    app.append(f);
+    CHECK_THROWS_WITH_AS(app.append(f), refusal(broken, 4).c_str(), iclap::InvalidArgument);
+  }
+}

@@ -4,6 +4,7 @@
 // Streaming, crash-tolerant appender of dataset CSV rows, for recorders that
 // log frames as they arrive (the rig recorder).
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
@@ -43,12 +44,14 @@ namespace iclap {
 /// nothing.
 ///
 /// Writing: `append` validates the frame first (InvalidArgument, nothing
-/// written), formats the whole row, writes it with one buffered write and
-/// flushes it to the operating system, so a crash of the process loses at
-/// most the row in flight. `sync()` additionally asks the OS to put it on
-/// disk. A write that fails (WriteError: disk full, file size limit) closes
-/// the appender and cuts the file back to its last complete row; further
-/// rows are refused.
+/// written; this includes a frame whose object, exploration and frame index
+/// are those of a row already in the file, found when opening or appended
+/// since, as the reader allows one row per frame), formats the whole row,
+/// writes it with one buffered write and flushes it to the operating
+/// system, so a crash of the process loses at most the row in flight.
+/// `sync()` additionally asks the OS to put it on disk. A write that fails
+/// (WriteError: disk full, file size limit) closes the appender and cuts the
+/// file back to its last complete row; further rows are refused.
 ///
 /// Not thread-safe; one appender per file. Move-only.
 class DatasetCsvAppender {
@@ -76,8 +79,12 @@ class DatasetCsvAppender {
     }
     // One buffer larger than any row: each row leaves in a single write().
     std::setvbuf(file_, nullptr, _IOFBF, 1 << 16);
-    if (!exists || empty) write_and_flush(detail::header_text(comments, columns_));
-    else if (need_newline) write_and_flush("\n");
+    if (!exists || empty) {
+      write_and_flush(detail::header_text(comments, columns_));
+      lines_ = comments.size() + 1;
+    } else if (need_newline) {
+      write_and_flush("\n");
+    }
   }
 
   /// Same as above with the columns spelled out: a `rows` x `cols` grid,
@@ -94,7 +101,9 @@ class DatasetCsvAppender {
         rows_in_file_(o.rows_in_file_),
         recovered_bytes_(o.recovered_bytes_),
         size_(o.size_),
-        failed_(o.failed_) {}
+        failed_(o.failed_),
+        frames_(std::move(o.frames_)),
+        lines_(o.lines_) {}
   DatasetCsvAppender& operator=(DatasetCsvAppender&&) = delete;
   DatasetCsvAppender(const DatasetCsvAppender&) = delete;
   DatasetCsvAppender& operator=(const DatasetCsvAppender&) = delete;
@@ -106,16 +115,22 @@ class DatasetCsvAppender {
   /// Writes `f` as one complete row and flushes it. The frame must match the
   /// file's columns (grid size, `t` and orientation present exactly when the
   /// file has those columns) and be valid (finite, pressures >= 0, an object
-  /// name without commas or quotes): InvalidArgument otherwise, and nothing
-  /// is written. IoError if the write fails.
+  /// name without commas or quotes), and no row of the file may have its
+  /// object, exploration and frame index: InvalidArgument otherwise, naming
+  /// that row's line, and nothing is written. IoError if the write fails.
   void append(const Frame& f) {
     if (failed_) throw WriteError(path_, "an earlier write failed; the appender is closed");
     if (!file_)  // moved from (its path went with it)
       throw WriteError("DatasetCsvAppender", "this appender was moved from; append through the one it was moved to");
     detail::validate_frame(f, columns_, "frame");
+    const std::size_t line = lines_ + 1;
+    if (const auto first = frames_.insert(f.object, f.exploration, f.frame, line))
+      throw InvalidArgument("frame", detail::frame_text(f.object, f.exploration, f.frame) + " is already in " +
+                                         path_ + ", line " + std::to_string(*first) + " (one row per frame)");
     row_.clear();
     detail::append_row(row_, f, slots_);
-    write_and_flush(row_);
+    write_and_flush(row_);  // on failure the appender is closed: the index no longer matters
+    lines_ = line;
     ++rows_in_file_;
   }
 
@@ -136,9 +151,10 @@ class DatasetCsvAppender {
   std::size_t recovered_bytes() const noexcept { return recovered_bytes_; }
 
  private:
-  // Reads the existing file's header, checks it and counts its rows; then
-  // (and only then) cuts off a trailing partial row. Returns true if the
-  // file's last line is the (complete) header, which lacks its line break.
+  // Reads the existing file's header, checks it, counts its rows and indexes
+  // their frames; then (and only then) cuts off a trailing partial row.
+  // Returns true if the file's last line is the (complete) header, which
+  // lacks its line break.
   bool open_existing() {
     std::string text;
     {
@@ -154,6 +170,7 @@ class DatasetCsvAppender {
     std::size_t header_end = 0;  // offset just past the header line
     std::string_view header, unterminated;
     std::size_t unterminated_start = 0;
+    std::vector<std::pair<std::string_view, std::size_t>> rows;  // complete data rows and their lines
     while (pos < view.size()) {
       std::size_t end = view.find('\n', pos);
       const bool terminated = end != std::string_view::npos;
@@ -174,12 +191,14 @@ class DatasetCsvAppender {
         unterminated = line;
         unterminated_start = line_start;
       } else if (!detail::trim_ascii(line).empty()) {
-        ++rows_in_file_;
+        rows.emplace_back(line, line_no);
       }
     }
     if (header_line == 0)
       throw ParseError(path_, line_no, "existing file has no header row; cannot append to it");
     check_header(header, header_line);
+    index_rows(header, rows);
+    lines_ = line_no;
     if (unterminated_start > 0) {
       std::vector<std::string_view> fields, header_fields;
       detail::split_fields(unterminated, fields);
@@ -192,11 +211,37 @@ class DatasetCsvAppender {
                              "line break or remove it before appending");
       // Fewer fields than the header: a row cut off mid-write.
       recovered_bytes_ = view.size() - unterminated_start;
+      --lines_;
       std::error_code ec;
       std::filesystem::resize_file(path_, unterminated_start, ec);
       if (ec) throw IoError(path_, "cannot cut off a partial last row: " + ec.message());
     }
     return header_end == view.size() && (view.empty() || view.back() != '\n');
+  }
+
+  // Counts the file's complete data rows and records the frame of each in
+  // frames_, so that append refuses a second row of a frame. A row whose
+  // object, exploration or frame the reader would refuse is counted and not
+  // indexed: the file is unreadable already, and stays as it was.
+  void index_rows(std::string_view header, const std::vector<std::pair<std::string_view, std::size_t>>& rows) {
+    std::vector<std::string_view> fields;
+    detail::split_fields(header, fields);
+    std::size_t i_object = 0, i_expl = 0, i_frame = 0;
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      if (fields[i] == "object") i_object = i;
+      if (fields[i] == "exploration") i_expl = i;
+      if (fields[i] == "frame") i_frame = i;
+    }
+    const std::size_t needed = std::max({i_object, i_expl, i_frame}) + 1;
+    for (const auto& row : rows) {
+      ++rows_in_file_;
+      detail::split_fields(row.first, fields);
+      std::int64_t exploration = 0, frame = 0;
+      if (fields.size() < needed || !detail::object_name_problem(fields[i_object]).empty() ||
+          !detail::parse_int64(fields[i_expl], exploration) || !detail::parse_int64(fields[i_frame], frame))
+        continue;
+      frames_.insert(fields[i_object], exploration, frame, row.second);
+    }
   }
 
   void check_header(std::string_view header, std::size_t line) {
@@ -268,6 +313,8 @@ class DatasetCsvAppender {
   std::size_t recovered_bytes_ = 0;
   std::uintmax_t size_ = 0;  // bytes in the file after the last complete write
   bool failed_ = false;
+  detail::FrameIndex frames_;  // the frame of every row in the file, by line
+  std::size_t lines_ = 0;      // lines in the file (comments, header, rows)
 };
 
 }  // namespace iclap

@@ -2,7 +2,8 @@
 #pragma once
 
 // Shared pieces of the dataset CSV reader, writer and appender: column names,
-// exact number formatting and the validation of a frame before it is written.
+// exact number formatting, the validation of a frame before it is written and
+// the index that keeps one row per frame.
 // The format itself is described in the README, "Dataset format".
 
 #include <charconv>
@@ -10,9 +11,12 @@
 #include <cstdio>
 #include <cstddef>
 #include <cstdint>
+#include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <tuple>
 #include <vector>
 
 #include "iclap/core/error.hpp"
@@ -203,6 +207,32 @@ inline void append_row(std::string& out, const Frame& f, const std::vector<Colum
   }
   out += '\n';
 }
+
+/// "frame F of exploration E of object 'O'", for messages.
+inline std::string frame_text(std::string_view object, std::int64_t exploration, std::int64_t frame) {
+  return "frame " + std::to_string(frame) + " of exploration " + std::to_string(exploration) + " of object " +
+         quote_text(object, 60);
+}
+
+/// Where each frame (object, exploration, frame index) of a dataset was
+/// first seen: a line of a file, an index into Dataset::frames. The format
+/// has one row per frame (which of two is the frame, and in what order,
+/// would be undefined), so the reader, the writer and the appender refuse a
+/// second one, naming the first. O(log frames) per frame.
+class FrameIndex {
+ public:
+  /// Records the frame at `place`, or, if it was recorded before, records
+  /// nothing and returns the place it was first recorded at.
+  std::optional<std::size_t> insert(std::string_view object, std::int64_t exploration, std::int64_t frame,
+                                    std::size_t place) {
+    const auto placed = places_.emplace(std::make_tuple(std::string(object), exploration, frame), place);
+    if (placed.second) return std::nullopt;
+    return placed.first->second;
+  }
+
+ private:
+  std::map<std::tuple<std::string, std::int64_t, std::int64_t>, std::size_t> places_;
+};
 
 }  // namespace detail
 }  // namespace iclap

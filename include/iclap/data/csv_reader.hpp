@@ -17,7 +17,6 @@
 #include <sstream>
 #include <string>
 #include <string_view>
-#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -229,7 +228,7 @@ inline Dataset parse_dataset_csv(std::string_view text, const std::string& name,
   };
 
   // One row per frame: the line of each (object, exploration, frame) seen.
-  std::map<std::tuple<std::string, std::int64_t, std::int64_t>, std::size_t> frame_lines;
+  FrameIndex frame_lines;
   while (next_line(line)) {
     if (trim_ascii(line).empty()) continue;
     if (line.front() == '#')
@@ -264,15 +263,12 @@ inline Dataset parse_dataset_csv(std::string_view text, const std::string& name,
                              std::string(fields[tc.first]));
       f.pressures(tc.second / cols, tc.second % cols) = p;
     }
-    // Two rows of one frame (checked once the row is otherwise valid): which
-    // is the frame, and in what order, is undefined (a file concatenated
-    // twice, or a recorder restarted).
-    const auto placed = frame_lines.emplace(std::make_tuple(f.object, f.exploration, f.frame), line_no);
-    if (!placed.second)
+    // Two rows of one frame, checked once the row is otherwise valid (a
+    // file concatenated twice, or a recorder restarted).
+    if (const auto first = frame_lines.insert(f.object, f.exploration, f.frame, line_no))
       throw ParseError(name, line_no,
-                       "frame " + std::to_string(f.frame) + " of exploration " + std::to_string(f.exploration) +
-                           " of object " + quote_name(obj) + " is already on line " +
-                           std::to_string(placed.first->second) + " (one row per frame)");
+                       frame_text(f.object, f.exploration, f.frame) + " is already on line " +
+                           std::to_string(*first) + " (one row per frame)");
     ds.frames.push_back(std::move(f));
   }
   return ds;

@@ -5,10 +5,8 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <map>
 #include <ostream>
 #include <string>
-#include <tuple>
 
 #include "iclap/core/error.hpp"
 #include "iclap/data/csv_common.hpp"
@@ -73,19 +71,15 @@ inline void write_dataset_csv(std::ostream& out, const Dataset& ds) {
   detail::validate_grid(ds.rows, ds.cols, "dataset.rows/cols");
   detail::validate_comments(ds.comments, "dataset.comments");
   const DatasetColumns columns = dataset_columns(ds);
-  // One row per frame, as the reader requires: the index of each
-  // (object, exploration, frame) seen.
-  std::map<std::tuple<std::string, std::int64_t, std::int64_t>, std::size_t> seen;
+  // One row per frame, as the reader requires.
+  detail::FrameIndex seen;
   for (std::size_t i = 0; i < ds.frames.size(); ++i) {
     const Frame& f = ds.frames[i];
     const std::string where = "dataset.frames[" + std::to_string(i) + "]";
     detail::validate_frame(f, columns, where);
-    const auto placed = seen.emplace(std::make_tuple(f.object, f.exploration, f.frame), i);
-    if (!placed.second)
-      throw InvalidArgument(where, "frame " + std::to_string(f.frame) + " of exploration " +
-                                       std::to_string(f.exploration) + " of object " + quote_text(f.object, 60) +
-                                       " is also dataset.frames[" + std::to_string(placed.first->second) +
-                                       "] (one row per frame)");
+    if (const auto first = seen.insert(f.object, f.exploration, f.frame, i))
+      throw InvalidArgument(where, detail::frame_text(f.object, f.exploration, f.frame) + " is also dataset.frames[" +
+                                       std::to_string(*first) + "] (one row per frame)");
   }
   const auto slots = detail::writer_slots(columns);
   std::string buf = detail::header_text(ds.comments, columns);
