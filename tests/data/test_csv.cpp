@@ -682,8 +682,12 @@ TEST_CASE("dataset csv appender: a second row of a frame is refused, naming the 
   // that wrote a second one would leave a file nothing can read.
   TempDir dir("data_appender_duplicate");
   const Frame f = appended_frame();
-  const auto refusal = [](const std::string& path, std::size_t line) {
-    return "frame: frame 1 of exploration 4 of object 'b' is already in " + path + ", line " + std::to_string(line) +
+  // The message for frame F of exploration E of object O (by default those
+  // of `f`) already on line `line` of `path`.
+  const auto refusal = [](const std::string& path, std::size_t line, int frame = 1, int exploration = 4,
+                          const std::string& object = "b") {
+    return "frame: frame " + std::to_string(frame) + " of exploration " + std::to_string(exploration) +
+           " of object '" + object + "' is already in " + path + ", line " + std::to_string(line) +
            " (one row per frame)";
   };
 
@@ -704,22 +708,14 @@ TEST_CASE("dataset csv appender: a second row of a frame is refused, naming the 
     app.append(g);
     g.object = "c";
     app.append(g);
-    CHECK_THROWS_WITH_AS(app.append(g),
-                         ("frame: frame 2 of exploration 5 of object 'c' is already in " + path +
-                          ", line 7 (one row per frame)")
-                             .c_str(),
-                         iclap::InvalidArgument);
+    CHECK_THROWS_WITH_AS(app.append(g), refusal(path, 7, 2, 5, "c").c_str(), iclap::InvalidArgument);
     // The index goes with a move.
     iclap::DatasetCsvAppender moved(std::move(app));
     CHECK_THROWS_WITH_AS(moved.append(f), refusal(path, 4).c_str(), iclap::InvalidArgument);
     CHECK(moved.rows_in_file() == 4);
     g.frame = 1;
     moved.append(g);  // line 8
-    CHECK_THROWS_WITH_AS(moved.append(g),
-                         ("frame: frame 1 of exploration 5 of object 'c' is already in " + path +
-                          ", line 8 (one row per frame)")
-                             .c_str(),
-                         iclap::InvalidArgument);
+    CHECK_THROWS_WITH_AS(moved.append(g), refusal(path, 8, 1, 5, "c").c_str(), iclap::InvalidArgument);
   }
   CHECK(iclap::read_dataset_csv(path).frames.size() == 5);
 
@@ -736,21 +732,13 @@ TEST_CASE("dataset csv appender: a second row of a frame is refused, naming the 
     CHECK_THROWS_WITH_AS(app.append(f), refusal(foreign, 5).c_str(), iclap::InvalidArgument);
     Frame g = f;
     g.frame = 0;
-    CHECK_THROWS_WITH_AS(app.append(g),
-                         ("frame: frame 0 of exploration 4 of object 'b' is already in " + foreign +
-                          ", line 4 (one row per frame)")
-                             .c_str(),
-                         iclap::InvalidArgument);
+    CHECK_THROWS_WITH_AS(app.append(g), refusal(foreign, 4, 0, 4, "b").c_str(), iclap::InvalidArgument);
     g.frame = 2;
     app.append(g);  // line 6
     g.frame = 3;
     app.append(g);  // line 7
     g.frame = 2;
-    CHECK_THROWS_WITH_AS(app.append(g),
-                         ("frame: frame 2 of exploration 4 of object 'b' is already in " + foreign +
-                          ", line 6 (one row per frame)")
-                             .c_str(),
-                         iclap::InvalidArgument);
+    CHECK_THROWS_WITH_AS(app.append(g), refusal(foreign, 6, 2, 4, "b").c_str(), iclap::InvalidArgument);
   }
   CHECK(iclap::read_dataset_csv(foreign).frames.size() == 4);
 
