@@ -756,6 +756,11 @@ int run_live_command(const Args& args) {
   }
   check_orientation(needed, table, path, /*every_frame=*/true);
   check_positions(needed, table, setup.ro, path);
+  // References of one object: the library refuses them (LiveReferences,
+  // CrossValidation), but only after the banner and, for fitted weights,
+  // inside the weight search, whose failure reads as the method's; named
+  // here as the data error it is.
+  naming_inputs(path, [&] { check_objects_to_choose_among(table.objects, "table"); });
   return cross_validate ? run_cross_validation(o, setup, path, dataset, table) : run_live(o, setup, path, dataset, table);
 }
 

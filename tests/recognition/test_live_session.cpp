@@ -340,6 +340,14 @@ TEST_CASE("live session: empty state and errors") {
                   InvalidArgument);
   CHECK_THROWS_AS(LiveReferences<>(t, {t.size()}, test::paper_classifiers, codebook(), Fusion::classifier("icp")),
                   InvalidArgument);
+  // References of one object: a session would be sure of it (confidence 1)
+  // after any touch, of anything.
+  TouchTable one = t.select(of_object(t, train, 0));
+  one.objects.resize(1);
+  CHECK_THROWS_WITH_AS(LiveReferences<>(one, {}, test::paper_classifiers, codebook(), Fusion::classifier("icp")),
+                       ("table: 1 object ('" + t.objects[0] + "'); recognition needs at least 2 objects to choose among")
+                           .c_str(),
+                       InvalidArgument);
 }
 
 TEST_CASE("live weights: fixed methods pass through, fitted ones come from the grid") {

@@ -515,6 +515,37 @@ TEST_CASE("cross validation refuses what it cannot do") {
   CHECK_THROWS_AS(CrossValidation<>(wrong, only_bow, codebook(4), {parse_method("bow")}), NonFiniteValue);
 }
 
+TEST_CASE("cross validation refuses a table of one object; the classifiers still measure one reference") {
+  const TouchTable t = synthetic_table(3);
+  std::vector<Index> rows;
+  for (Index i = 0; i < t.size(); ++i)
+    if (t.object[static_cast<std::size_t>(i)] == 0) rows.push_back(i);
+  TouchTable one = t.select(rows);
+  one.objects.resize(1);
+  // Among one object every test is "recognised": 100% for every method,
+  // whatever was touched (before, it ran and reported exactly that).
+  CHECK(error_of([&] { CrossValidation<>(one, all_classifiers, codebook(4), {parse_method("bow")}); }) ==
+        "table | 1 object ('" + t.objects[0] + "'); recognition needs at least 2 objects to choose among");
+  // Refused before anything else about the table's explorations.
+  TouchTable one_exploration = one;
+  for (auto& e : one_exploration.exploration) e = 0;
+  CHECK(error_of([&] { CrossValidation<>(one_exploration, all_classifiers, codebook(4), {parse_method("bow")}); })
+            .find("table | 1 object") == 0);
+  CHECK(CrossValidation<>(t, all_classifiers, codebook(4), {parse_method("bow")}).folds() == 4);
+
+  // A recogniser (and its classifiers) fitted on one object is legitimate:
+  // distances to a single reference.
+  KMeansQuantizer<float> q = codebook(4);
+  q.fit(one.touches.features);
+  TouchSet all = one.touches;
+  all.words = assign_words(q, one.touches.features);
+  Recognizer rec(all_classifiers());
+  rec.fit({all}, q.size());
+  const DistanceTable table = rec.distances(all);
+  CHECK(table.objects() == 1);
+  CHECK(decide(parse_method("iclap+icp+bow").fusion.evaluate(table)) == 0);
+}
+
 TEST_CASE("cross validation: every fold, inner fold and object draws from a random stream of its own") {
   using CV = CrossValidation<>;
   // The streams the results files of this repository were drawn with.

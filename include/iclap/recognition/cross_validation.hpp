@@ -131,6 +131,18 @@ struct CrossValidationResult {
   std::size_t tests = 0;
 };
 
+/// Throws InvalidArgument naming `argument` unless `objects` holds at least
+/// 2 objects: recognition chooses among the known objects, and among one
+/// every test is "recognised", whatever was touched (100% in every row of
+/// an evaluation, confidence 1 in a live session). Checked by recognition
+/// experiments and live references (CrossValidation, LiveReferences), not
+/// by the classifiers: distances to a single reference are legitimate.
+inline void check_objects_to_choose_among(const std::vector<std::string>& objects, const std::string& argument) {
+  if (objects.size() >= 2) return;
+  std::string has = objects.empty() ? "no object" : "1 object (" + quote_text(objects.front(), 60) + ")";
+  throw InvalidArgument(argument, has + "; recognition needs at least 2 objects to choose among");
+}
+
 /// Builds the classifiers of one training set; called once per fold and per
 /// inner fold, so every fold gets fresh references.
 using ClassifierFactory = std::function<std::vector<std::unique_ptr<Classifier>>()>;
@@ -168,7 +180,8 @@ class CrossValidation {
   /// Throws at construction for an empty method list or a method that needs
   /// a classifier the factory does not make (InvalidArgument naming
   /// "methods"), for invalid settings, for a table whose per-touch vectors
-  /// disagree (TouchTable::validate), and (naming "table") for an object
+  /// disagree (TouchTable::validate), and (naming "table") for a table of
+  /// fewer than 2 objects (check_objects_to_choose_among), an object
   /// with fewer than 2 explorations, or fewer than 3 when a method's weights
   /// or trimming are chosen on inner folds.
   CrossValidation(const TouchTable& table, ClassifierFactory factory, Quantizer quantizer, std::vector<Method> methods,
@@ -191,6 +204,7 @@ class CrossValidation {
     probe.check(methods_);
     if (table_.size() == 0) throw EmptyInput("table", "holds no touch");
     table_.validate("table");
+    check_objects_to_choose_among(table_.objects, "table");
     // A method chosen in training holds out each of a fold's training
     // explorations in turn (inner folds); an object with 2 explorations has
     // only 1 training exploration per fold, and nothing left to fit on.

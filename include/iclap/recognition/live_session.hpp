@@ -362,7 +362,9 @@ class LiveReferences {
   /// Builds the references from the touches `train` of `table` (indices;
   /// empty: every touch): fits a copy of `quantizer` on their descriptors,
   /// gives every touch its word, fits the classifiers `factory` makes on one
-  /// touch set per object. Throws InvalidArgument naming "table" when an
+  /// touch set per object. Throws InvalidArgument naming "table" for a table
+  /// of fewer than 2 objects (check_objects_to_choose_among: a session among
+  /// one object would be confident of it after any touch) and when an
   /// object has no training touch, "factory" when it is empty, and what the
   /// recogniser throws for a fusion it cannot evaluate.
   LiveReferences(const TouchTable& table, const std::vector<Index>& train, const ClassifierFactory& factory,
@@ -374,6 +376,7 @@ class LiveReferences {
         feature_length_(table.touches.features.rows()) {
     if (table.size() == 0) throw EmptyInput("table", "holds no touch");
     table.validate("table");
+    check_objects_to_choose_among(table.objects, "table");
     recognizer_.check({Method{fusion_.to_string(), fusion_, false, {}}});
     std::vector<Index> all;
     const std::vector<Index>* use = &train;
