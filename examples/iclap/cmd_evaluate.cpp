@@ -72,7 +72,8 @@ const std::string kUsage = std::string(
     "                          orientation, columns qw..qz; options --occupancy-*,\n"
     "                          --placement-*)).\n"
     "                          '+' sums with fitted weights, '*' products, or fixed\n"
-    "                          weights such as 0.6*iclap+0.2*icp+0.2*bow\n"
+    "                          weights such as 0.6*iclap+0.2*icp+0.2*bow; a method given\n"
+    "                          twice, also spelt otherwise (bow+icp for icp+bow), is refused\n"
     "  --repeats N             random draws per object and number of touches (default 10)\n"
     "  --weight-repeats N      draws per case on the inner folds for the weights (default 2)\n"
     "  --zero-weights          let the weight grid give a classifier weight 0, i.e. drop it\n"
@@ -104,10 +105,19 @@ std::vector<Method> parse_methods(const std::string& text) {
     return out;
   }
   out.clear();
-  std::set<std::string> seen;
+  // A method given twice, also under another spelling ("bow+icp" after
+  // "icp+bow", "icp * iclap" after "iclap*icp"), would run twice and fill
+  // two columns with one method's results.
+  std::map<std::string, std::size_t> seen;  // method_key -> index of its item
   for (const auto& spec : Options::split(text, ',')) {
     Method m = parse_method(spec);
-    if (!seen.insert(m.name).second) throw UsageError("--methods: '" + m.name + "' is listed twice");
+    const auto [it, added] = seen.emplace(method_key(m), out.size());
+    if (!added) {
+      const Method& first = out[it->second];
+      throw UsageError("--methods: " + quote_text(m.name) + " (item " + std::to_string(out.size() + 1) +
+                       ") is the same method as " + quote_text(first.name) + " (item " +
+                       std::to_string(it->second + 1) + ")");
+    }
     out.push_back(std::move(m));
   }
   return out;

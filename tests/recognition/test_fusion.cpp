@@ -318,6 +318,35 @@ TEST_CASE("method names, parsing and the weight grid") {
   }
 }
 
+TEST_CASE("method_key: one key for the spellings of one method, distinct keys for distinct methods") {
+  const auto key = [](const char* spec) { return method_key(parse_method(spec)); };
+  // Sums and products are unordered, at any depth; spaces do not count.
+  CHECK(key("icp+bow") == key("bow+icp"));
+  CHECK(key("iclap+icp+bow") == key("bow + iclap + icp"));
+  CHECK(key("iclap*icp") == key("icp*iclap"));
+  CHECK(key("iclap*icp*bow") == key("bow*(icp*iclap)"));  // nested products are flattened
+  CHECK(key("0.6*icp+0.4*bow") == key("0.4*bow+0.6*icp"));
+  CHECK(key("0.5*(icp*bow)+0.5*iclap") == key("0.5*iclap+0.5*(bow*icp)"));
+  CHECK(key("(0.3*icp+0.7*bow)*iclap") == key("iclap*(0.7*bow+0.3*icp)"));
+  CHECK(key("icp*bow+iclap") == key("iclap+bow*icp"));
+  CHECK(key("1*icp") == key("icp"));
+  // Different methods keep different keys: other classifiers, fitted
+  // against fixed weights, other fixed weights, a sum against a product,
+  // weights moved to other terms, a bracketed sum against the flat one.
+  CHECK(key("icp+bow") != key("icp+iclap"));
+  CHECK(key("icp+bow") != key("0.5*icp+0.5*bow"));
+  CHECK(key("0.6*icp+0.4*bow") != key("0.4*icp+0.6*bow"));
+  CHECK(key("0.6*icp+0.4*bow") != key("0.6000001*icp+0.3999999*bow"));
+  CHECK(key("icp+bow") != key("icp*bow"));
+  CHECK(key("icp") != key("bow"));
+  CHECK(key("(0.5*icp+0.5*bow)*iclap") != key("0.5*icp*iclap+0.5*bow*iclap"));
+  CHECK(key("iclap+icp+bow") != key("iclap+icp"));
+  // Alternatives count, in order.
+  const Method m = parse_method("icp+patch");
+  CHECK(method_key(with_variants(m, "patch", {"p1", "p2"})) != method_key(m));
+  CHECK(method_key(with_variants(m, "patch", {"p1", "p2"})) != method_key(with_variants(m, "patch", {"p2", "p1"})));
+}
+
 TEST_CASE("methods with alternatives: renaming and variants") {
   const Method m = parse_method("iclap_patch+patch+bow");
   const Fusion renamed = m.fusion.renamed("patch", "patch-trim50");

@@ -222,6 +222,60 @@ inline Method parse_method(const std::string& spec) {
   return Method{name, std::move(fusion), fit, {}};
 }
 
+namespace detail {
+
+/// The text of `f` with the terms of every sum and the factors of every
+/// product sorted, weights written exactly (method_key); `free_weights`:
+/// the weights of this sum (fitted ones) are left out.
+inline std::string fusion_key(const Fusion& f, bool free_weights) {
+  switch (f.kind()) {
+    case Fusion::Kind::Classifier: return f.name();
+    case Fusion::Kind::WeightedSum: {
+      // A sum of one term of weight 1 is that term ("1*icp" is "icp").
+      if (f.children().size() == 1 && f.weights()[0] == 1.0) return fusion_key(f.children()[0], false);
+      std::vector<std::string> terms;
+      for (std::size_t i = 0; i < f.children().size(); ++i) {
+        const std::string child = fusion_key(f.children()[i], false);
+        const bool bracket = f.children()[i].kind() == Fusion::Kind::WeightedSum && child.find('+') != std::string::npos;
+        const std::string term = bracket ? "(" + child + ")" : child;
+        terms.push_back(free_weights ? term : format_exact(f.weights()[i]) + "*" + term);
+      }
+      std::sort(terms.begin(), terms.end());
+      std::string out;
+      for (const auto& t : terms) out += (out.empty() ? "" : "+") + t;
+      return out;
+    }
+    case Fusion::Kind::Product: {
+      std::vector<std::string> factors;
+      for (const auto& c : f.children()) {
+        const std::string child = fusion_key(c, false);
+        factors.push_back(child.find('+') != std::string::npos ? "(" + child + ")" : child);
+      }
+      std::sort(factors.begin(), factors.end());
+      std::string out;
+      for (const auto& x : factors) out += (out.empty() ? "" : "*") + x;
+      return out;
+    }
+  }
+  return {};
+}
+
+}  // namespace detail
+
+/// A text that two methods share exactly when they denote the same method
+/// up to the order of the terms of a sum and of the factors of a product,
+/// at any depth ("icp+bow" and "bow+icp", "iclap*icp" and "icp*iclap",
+/// "0.4*bow+0.6*icp" and "0.6*icp+0.4*bow", "icp" and "1*icp"): fitted
+/// weights are left out, fixed ones kept exactly, and the alternatives
+/// follow in order. Other equal computations ("0.5*(0.5*a+0.5*b)+0.5*c" and
+/// "0.25*a+0.25*b+0.5*c") keep distinct texts. For refusing a method list
+/// that runs one method twice under two spellings.
+inline std::string method_key(const Method& m) {
+  std::string out = (m.fit_weights ? "fitted:" : "fixed:") + detail::fusion_key(m.fusion, m.fit_weights);
+  for (const auto& a : m.alternatives) out += "|" + detail::fusion_key(a, m.fit_weights);
+  return out;
+}
+
 /// The paper's eleven methods (Sections IV-VI), in its order: the three
 /// single pipelines, the two decision fusions of ICP and BoW, and the six
 /// hybrid fusions with iCLAP. `+` is a weighted sum whose weights the grid
