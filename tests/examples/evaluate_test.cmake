@@ -197,6 +197,26 @@ expect_file_lines(${WORK_DIR}/far_bow/results.csv 2 "bow,1,(0(\\.[0-9]+)?|1),")
 # A codebook larger than the training touches names --k, not the library's setting.
 run_expect(2 ${ICLAP} evaluate ${WORK_DIR}/three.csv --methods bow --k 100000 --touches 1 --repeats 1 --out ${WORK_DIR}/bigk)
 expect_match("${err}" "--k: k = 100000 exceeds the number of features \\([0-9]+\\) of the training touches from .*three\\.csv")
+# ... before anything is printed (the banner came first, as if the run had
+# started).
+if(NOT out STREQUAL "")
+  message(FATAL_ERROR "evaluate printed before refusing --k:\n${out}")
+endif()
+# The largest k every fold's codebook allows (the smallest training set: the
+# refusal names a fold's), then the inner folds' own codebooks, on fewer
+# touches, refuse it, also before anything is printed.
+set(k 100000)
+while(err MATCHES "features \\(([0-9]+)\\)")
+  set(k ${CMAKE_MATCH_1})
+  execute_process(COMMAND ${ICLAP} evaluate ${WORK_DIR}/three.csv --methods bow --k ${k} --touches 1 --repeats 1
+                  --out ${WORK_DIR}/smallest_k OUTPUT_VARIABLE out ERROR_VARIABLE err)
+endwhile()
+run_expect(2 ${ICLAP} evaluate ${WORK_DIR}/three.csv --methods icp+bow --k ${k} --inner-codebooks --touches 1
+           --repeats 1 --weight-repeats 1 --out ${WORK_DIR}/bigk)
+expect_match("${err}" "--k: k = ${k} exceeds the number of features \\([0-9]+\\) of the training touches from .*three\\.csv")
+if(NOT out STREQUAL "")
+  message(FATAL_ERROR "evaluate printed before refusing --k for the inner codebooks:\n${out}")
+endif()
 if(EXISTS ${WORK_DIR}/bigk OR EXISTS ${WORK_DIR}/far)
   message(FATAL_ERROR "a refused evaluate left its --out behind")
 endif()

@@ -699,6 +699,23 @@ TEST_CASE("inner_codebooks: every inner fold fits its codebook without its held-
     for (std::int64_t g = 0; g < 4; ++g)
       if (g != f) CHECK(same((*nested_q.fits)[k++], features_without(t, {10 + f, 10 + g})));
   }
+  // codebook_trainings() names the same touches without a run (folds first,
+  // then every fold's inner folds), for checks before it; with nothing
+  // chosen on inner folds there are no inner codebooks.
+  const auto plain_sets = plain.codebook_trainings();
+  REQUIRE(plain_sets.size() == 4);
+  for (std::size_t f = 0; f < 4; ++f) CHECK(same(t.touches.features(Eigen::all, plain_sets[f]), (*plain_q.fits)[f]));
+  const auto nested_sets = nested.codebook_trainings();
+  REQUIRE(nested_sets.size() == 4 * (1 + 3));
+  for (std::size_t f = 0, n = 0; f < 4; ++f) {
+    CHECK(same(t.touches.features(Eigen::all, nested_sets[f]), (*nested_q.fits)[n++]));
+    for (std::size_t g = 0; g < 3; ++g)
+      CHECK(same(t.touches.features(Eigen::all, nested_sets[4 + 3 * f + g]), (*nested_q.fits)[n++]));
+  }
+  CHECK(CrossValidation<RecordingQuantizer>(t, test::paper_classifiers, RecordingQuantizer{}, {parse_method("bow")}, s)
+            .codebook_trainings()
+            .size() == 4);
+
   // The outer test uses the fold's codebook either way: a method without
   // fitted weights recognises exactly as before.
   CHECK(a.vocabulary == b.vocabulary);

@@ -244,6 +244,32 @@ class CrossValidation {
 
   int folds() const noexcept { return folds_; }
 
+  /// The touches (indices into the table, ascending) that each codebook of
+  /// run() is fitted on: every fold's training touches, in fold order, then,
+  /// under inner_codebooks (when a method is chosen on inner folds), those
+  /// of each fold's inner folds. For checking the quantizer's settings
+  /// against the data before run(), which finds a codebook too large for
+  /// its touches only when it reaches that fold.
+  std::vector<std::vector<Index>> codebook_trainings() const {
+    std::vector<std::vector<Index>> out;
+    for (int f = 0; f < folds_; ++f) {
+      std::vector<Index> train;
+      for (Index i = 0; i < table_.size(); ++i)
+        if (exploration_rank(i) != f) train.push_back(i);
+      out.push_back(std::move(train));
+    }
+    if (!settings_.inner_codebooks || fitted_classifiers_.empty()) return out;
+    for (int f = 0; f < folds_; ++f)
+      for (int g = 0; g < folds_; ++g) {
+        if (g == f) continue;
+        std::vector<Index> inner;
+        for (Index i : out[static_cast<std::size_t>(f)])
+          if (exploration_rank(i) != g) inner.push_back(i);
+        out.push_back(std::move(inner));
+      }
+    return out;
+  }
+
   /// The most folds: the random stream of a draw has 16 bits for the fold.
   static constexpr int kMaxFolds = (1 << 16) - 1;
 
