@@ -58,7 +58,9 @@ const std::string kUsage = std::string(
     "confusion.csv, sweeps.csv and SVG figures (fig_*.svg) like the paper's.\n"
     "\n"
     "options:\n"
-    "  --touches LIST          numbers of touches: 1,5,10,20 or 1..20 (default 1..20)\n"
+    "  --touches LIST          numbers of touches: 1,5,10,20 or 1..20 (default 1..20); a count\n"
+    "                          above 20 may not exceed the touches of the largest held-out\n"
+    "                          exploration (every draw would use all of them)\n"
     "  --methods LIST|paper|all   comma-separated methods (default paper: bow, icp,\n"
     "                          iclap, icp+bow, icp*bow, iclap+icp, iclap*icp, iclap+bow,\n"
     "                          iclap*bow, iclap+icp+bow, iclap*icp*bow; all adds iclapn,\n"
@@ -645,6 +647,33 @@ void check_codebook_size(const CrossValidation<>& cv, const TouchTable& table, I
   }
 }
 
+/// The paper's range of touches (1..20, the default): always evaluated.
+constexpr int kPaperTouches = 20;
+
+/// Throws InvalidArgument naming --touches for counts above both the
+/// paper's 20 and `largest`, the most touches of a held-out exploration of
+/// `dataset`: every draw of such a count uses all the touches of its
+/// exploration, as at `largest` touches, so each such row repeats that
+/// work (--touches 1..100000 on a small dataset ran for 33 s, and far
+/// longer in a debug build, to fill rows that all mean "every touch").
+void check_touch_counts(const std::vector<int>& touches, std::size_t largest, const std::string& dataset) {
+  const auto limit = static_cast<int>(std::max<std::size_t>(largest, kPaperTouches));
+  std::vector<int> over;
+  for (int t : touches)
+    if (t > limit) over.push_back(t);
+  if (over.empty()) return;
+  const int most = *std::max_element(over.begin(), over.end());
+  const std::string counts = over.size() == 1 ? std::to_string(most) + " is"
+                                              : std::to_string(over.size()) + " counts, up to " + std::to_string(most) +
+                                                    ", are";
+  throw InvalidArgument("--touches", counts + " more than the " + std::to_string(largest) +
+                                         " touches of the largest held-out exploration of " + dataset +
+                                         ": every draw would use all the touches of its exploration, as at " +
+                                         std::to_string(largest) + ", repeating that work; ask for at most " +
+                                         std::to_string(largest) +
+                                         (largest < kPaperTouches ? " (counts up to 20, the paper's range, are allowed)" : ""));
+}
+
 /// Whether `name` is a figure's file name as the runs write them (fig_*.svg).
 bool is_figure_name(const std::string& name) {
   return name.size() > 8 && name.compare(0, 4, "fig_") == 0 && name.compare(name.size() - 4, 4, ".svg") == 0;
@@ -761,8 +790,10 @@ int run_evaluate(const Args& args) {
   CrossValidation<> cv =
       naming_inputs(origin, [&] { return CrossValidation<>(table, factory, make_quantizer(ro), methods, s); });
   // What the run would find only at some fold, refused before anything is
-  // printed: a codebook larger than a fold's training touches.
+  // printed: a codebook larger than a fold's training touches, counts of
+  // touches that only repeat the largest exploration's.
   naming_inputs(origin, [&] { check_codebook_size(cv, table, ro.k); });
+  check_touch_counts(s.touches, cv.largest_held_out(), origin);
   const unsigned threads = s.threads > 0 ? static_cast<unsigned>(s.threads) : std::max(1u, std::thread::hardware_concurrency());
   std::printf("iclap %s evaluate\ndataset: %s\n", ICLAP_VERSION_STRING, origin.c_str());
   std::printf("%zu objects, %zu frames, %ld touches (contact threshold %g), %d folds (one exploration of every object held out)\n",

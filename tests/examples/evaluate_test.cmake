@@ -217,6 +217,23 @@ expect_match("${err}" "--k: k = ${k} exceeds the number of features \\([0-9]+\\)
 if(NOT out STREQUAL "")
   message(FATAL_ERROR "evaluate printed before refusing --k for the inner codebooks:\n${out}")
 endif()
+# Counts of touches above both 20 and the largest held-out exploration's
+# touches are refused before anything is printed: every draw would use all
+# of its exploration's touches, as at that count (--touches 1..100000 on a
+# small dataset ran for 33 s to fill such rows). That count itself runs,
+# one more does not.
+run_expect(2 ${ICLAP} evaluate ${WORK_DIR}/three.csv --methods bow --touches 1..1000 --repeats 1 --out ${WORK_DIR}/many)
+expect_match("${err}" "^iclap evaluate: --touches: [0-9]+ counts, up to 1000, are more than the ([0-9]+) touches of the largest held-out exploration of [^\n]*three\\.csv: every draw would use all the touches of its exploration, as at [0-9]+, repeating that work; ask for at most [0-9]+\n$")
+string(REGEX MATCH "more than the ([0-9]+) touches" _ "${err}")
+set(largest "${CMAKE_MATCH_1}")
+if(NOT out STREQUAL "" OR NOT largest GREATER 20)
+  message(FATAL_ERROR "refused --touches after printing, or the largest exploration has ${largest} touches:\n${out}")
+endif()
+math(EXPR beyond "${largest} + 1")
+run_expect(2 ${ICLAP} evaluate ${WORK_DIR}/three.csv --methods bow --touches 1,${beyond} --repeats 1 --out ${WORK_DIR}/many)
+expect_match("${err}" "--touches: ${beyond} is more than the ${largest} touches of the largest held-out exploration of [^\n]*three\\.csv: [^\n]*; ask for at most ${largest}\n$")
+run(${ICLAP} evaluate ${WORK_DIR}/three.csv --methods bow --touches 1,${largest} --repeats 1 --out ${WORK_DIR}/many)
+expect_file_lines(${WORK_DIR}/many/results.csv 3 ";bow,${largest},")
 if(EXISTS ${WORK_DIR}/bigk OR EXISTS ${WORK_DIR}/far)
   message(FATAL_ERROR "a refused evaluate left its --out behind")
 endif()

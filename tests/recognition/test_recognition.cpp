@@ -604,6 +604,23 @@ TEST_CASE("cross validation: every fold, inner fold and object draws from a rand
   }
 }
 
+TEST_CASE("largest_held_out: the most touches of an exploration that a fold holds out") {
+  const TouchTable t = synthetic_table(3);  // 25 touches in every exploration
+  CHECK(CrossValidation<>(t, test::paper_classifiers, codebook(4), {parse_method("bow")}).largest_held_out() == 25);
+  // Five more touches in one exploration of the ring; a fifth exploration of
+  // the bar, of 40 touches, is never held out (the others have 4: 4 folds).
+  std::vector<Index> rows(static_cast<std::size_t>(t.size()));
+  for (Index i = 0; i < t.size(); ++i) rows[static_cast<std::size_t>(i)] = i;
+  const auto ring = std::find(t.object.begin(), t.object.end(), 1) - t.object.begin();
+  rows.insert(rows.end(), 5, static_cast<Index>(ring));
+  rows.insert(rows.end(), 40, 0);
+  TouchTable more = t.select(rows);
+  for (std::size_t i = more.exploration.size() - 40; i < more.exploration.size(); ++i) more.exploration[i] = 14;
+  CrossValidation<> cv(more, test::paper_classifiers, codebook(4), {parse_method("bow")});
+  CHECK(cv.folds() == 4);
+  CHECK(cv.largest_held_out() == 30);
+}
+
 TEST_CASE("weights chosen on inner folds need 3 explorations of every object, fixed weights 2") {
   const TouchTable full = synthetic_table(6);  // explorations 10..13
   std::vector<Index> rows;

@@ -244,6 +244,17 @@ class CrossValidation {
 
   int folds() const noexcept { return folds_; }
 
+  /// The most touches of any exploration that a fold or inner fold holds
+  /// out (of every object, the explorations of rank below folds()): a draw
+  /// of this many touches or more uses all the touches of every held-out
+  /// exploration.
+  std::size_t largest_held_out() const {
+    std::size_t most = 0;
+    for (Index o = 0; o < static_cast<Index>(table_.objects.size()); ++o)
+      for (int rank = 0; rank < folds_; ++rank) most = std::max(most, touches_of(o, rank).size());
+    return most;
+  }
+
   /// The touches (indices into the table, ascending) that each codebook of
   /// run() is fitted on: every fold's training touches, in fold order, then,
   /// under inner_codebooks (when a method is chosen on inner folds), those
