@@ -380,3 +380,21 @@ TEST_CASE("utf8_error: the offset of the first byte that breaks UTF-8, at every 
     CHECK(utf8_error(b.first) == b.second);
   }
 }
+
+TEST_CASE("utf8_error: a sequence cut by the end of the view is refused, whatever bytes follow in memory") {
+  // A view of the start of a longer text: the lead byte's continuation lies
+  // just past the view's end, readable but not part of the text. The check
+  // must stop at size(), not read one byte beyond it (as it would if the
+  // bound were `> size()`; a std::string's own '\0' would hide that).
+  const std::string text = "a\xc3\xa4\xe2\x82\xac\xf0\x9f\x98\x80";  // a, U+00E4, U+20AC, U+1F600
+  const std::string_view whole(text);
+  CHECK(utf8_error(whole) == std::string_view::npos);
+  CHECK(utf8_error(whole.substr(0, 1)) == std::string_view::npos);
+  CHECK(utf8_error(whole.substr(0, 2)) == 1);   // C3 without its A4
+  CHECK(utf8_error(whole.substr(0, 3)) == std::string_view::npos);
+  CHECK(utf8_error(whole.substr(0, 4)) == 3);   // E2 alone
+  CHECK(utf8_error(whole.substr(0, 5)) == 3);   // E2 82 without AC
+  CHECK(utf8_error(whole.substr(0, 8)) == 6);   // F0 9F without 98 80
+  CHECK(utf8_error(whole.substr(0, 9)) == 6);   // F0 9F 98 without 80
+  CHECK(utf8_error(whole.substr(0, 6)) == std::string_view::npos);
+}
