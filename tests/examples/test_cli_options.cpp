@@ -264,3 +264,19 @@ TEST_CASE("simulation options: values out of range are refused, naming the optio
         "--sweep-max-mm must be >= --sweep-min-mm, got " + iclap::format_value(defaults.sweep_length_max * 1e3) +
             " < 1000");
 }
+
+TEST_CASE("options: range_text names one bound only when the other is open, both when both are open or closed") {
+  // integer() and number() never refuse a value where both bounds are open,
+  // so range_text's own answer for such a range shows only here: both
+  // bounds, not "below" the open lower one or "above" the open upper one.
+  const auto lowest = std::numeric_limits<long long>::min(), largest = std::numeric_limits<long long>::max();
+  CHECK(Options::range_text(lowest, largest) ==
+        "outside [" + std::to_string(lowest) + ", " + std::to_string(largest) + "]");
+  CHECK(Options::range_text(0LL, largest) == "below 0");
+  CHECK(Options::range_text(lowest, 7LL) == "above 7");
+  CHECK(Options::range_text(-3LL, 7LL) == "outside [-3, 7]");
+  const double inf = std::numeric_limits<double>::infinity();
+  CHECK(Options::range_text(-inf, inf) == "outside [-inf, inf]");
+  CHECK(Options::range_text(0.5, inf) == "below 0.5");
+  CHECK(Options::range_text(-inf, 0.25) == "above 0.25");
+}
