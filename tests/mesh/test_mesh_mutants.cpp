@@ -124,3 +124,30 @@ TEST_CASE("mesh mutants: placement breaks a tie in height towards the larger fac
   CHECK(placed.resting_face_area == doctest::Approx(s * length));
   CHECK(iclap::mesh_bounds(placed.mesh).sizes().z() == doctest::Approx(s * std::sqrt(3.0) / 2));
 }
+
+TEST_CASE("mesh mutants: make_extrusion names the first fault of an outline that touches itself") {
+  using V = std::vector<Eigen::Vector2d>;
+  auto outline_error = [](const V& outline) {
+    return iclap::test::what_of([&] { (void)iclap::make_extrusion(outline, 0, 1); });
+  };
+  // A triangle has no two edges apart, so only the checks of points and
+  // edges in a row see its repeated point; without the check of two points
+  // in a row it was called a fold-back.
+  CHECK(outline_error({{0, 0}, {1, 0}, {1, 0}}) == "outline: points 1 and 2 coincide: not a simple polygon");
+  // A zero-width spike at point 0, between the closing edge 6 and edge 0:
+  // the edges are named smaller first, as elsewhere.
+  CHECK(outline_error({{3, 1}, {2.5, 1}, {2, 2}, {0, 2}, {0, 0}, {2, 0}, {2, 1}}) ==
+        "outline: edges 0 and 6 fold back on each other: not a simple polygon");
+  // The bow-tie of test_primitives started at another point: its crossing
+  // is between edge 1 and the closing edge 3, which is compared with every
+  // edge but its neighbours 0 and 2.
+  CHECK(outline_error({{2, 2}, {2, 0}, {0, 1}, {0, 0}}) == "outline: edges 1 and 3 cross: not a simple polygon");
+  // Edges 0 and 4 overlap along y = 0, each with one end on the other: the
+  // end of edge 4 on edge 0 is found first (each pair of edges looks for
+  // the other's start, then its end, on the first, then the reverse).
+  CHECK(outline_error({{0, 0}, {2, 0}, {2, 2}, {-1, 2}, {-1, 0}, {1, 0}, {1, -1}, {0, -1}}) ==
+        "outline: point 5 lies on edge 0: not a simple polygon");
+  // Edge 0 inside edge 4: both its points lie on it; the first is named.
+  CHECK(outline_error({{0, 0}, {1, 0}, {1, 1}, {3, 1}, {2, 0}, {-1, 0}, {-1, -1}, {0, -1}}) ==
+        "outline: point 0 lies on edge 4: not a simple polygon");
+}
