@@ -389,3 +389,67 @@ TEST_CASE("a maximum distance of 0 is refused as not positive, before its square
     CHECK(e.reason() == "must be > 0 (got 0)");
   }
 }
+
+namespace {
+/// PaperTermination's rules, recording the rounding floor each check is
+/// given (through a pointer: check is const).
+template <typename Scalar>
+struct FloorRecorder {
+  PaperTermination<Scalar> rules;
+  std::vector<Scalar>* floors = nullptr;
+  void validate() const { rules.validate(); }
+  std::optional<StopReason> check(int iterations, Scalar error, Scalar previous_error, Scalar floor) const {
+    floors->push_back(floor);
+    return rules.check(iterations, error, previous_error, floor);
+  }
+};
+
+/// Registers a moved, noisy copy of a 10 cm object 30 cm from the origin,
+/// trimmed to half its pairs, and checks each floor the registration gave
+/// its policy against kept pairs x dimension x (64 eps spread)^2.
+template <typename Scalar>
+void check_rounding_floor() {
+  const Eigen::MatrixXd model = random_points(3, 40, 91, 0.05, 0.3);
+  Eigen::VectorXd t;
+  const Eigen::MatrixXd R = random_motion<FullRigid>(3, 0.02, 0.005, 93, t);
+  const Eigen::MatrixXd test = R.transpose() * (model.colwise() - t) + 1e-4 * random_points(3, 40, 95);
+  const ReferenceCloud<Scalar, 3> ref(model.cast<Scalar>().eval());
+  // The spread is the largest magnitude of a working coordinate: about
+  // 5 cm here, whatever the object's distance from the origin.
+  CHECK(ref.spread() == static_cast<double>(ref.working_points().cwiseAbs().maxCoeff()));
+  CHECK(ref.spread() > 0.03);
+  CHECK(ref.spread() < 0.06);
+  std::vector<Scalar> floors;
+  Icp<Scalar, 3, FullRigid, DistanceRejector<Scalar>, FloorRecorder<Scalar>> icp;
+  icp.rejection.trim_fraction = Scalar(0.5);
+  icp.termination.floors = &floors;
+  const auto r = icp.align(ref, test.cast<Scalar>().eval());
+  const Index kept = icp.rejection.trimmed_count(40);
+  REQUIRE(r.pairs == kept);  // every iteration keeps the same half of the 40 pairs
+  REQUIRE(!floors.empty());
+  const double unit = 64 * static_cast<double>(std::numeric_limits<Scalar>::epsilon()) * ref.spread();
+  const double expected = static_cast<double>(kept) * 3 * unit * unit;
+  // Relative: doctest::Approx's absolute margin (1e-6 * scale 1) would take
+  // any floor of these magnitudes (about 1e-11 in float, 1e-29 in double).
+  for (const Scalar floor : floors) CHECK(std::abs(static_cast<double>(floor) - expected) <= 1e-6 * expected);
+  // Far below this fit's E (noise of 0.1 mm; 1e4 times the floor in float):
+  // the floor does not stop it.
+  CHECK(static_cast<double>(r.error) > 1e3 * expected);
+  CHECK(r.stop_reason == StopReason::RelativeTolerance);
+}
+}  // namespace
+
+TEST_CASE("the rounding floor a registration gives its policy: kept pairs x dimension x (64 eps spread)^2") {
+  check_rounding_floor<float>();
+  check_rounding_floor<double>();
+}
+
+TEST_CASE("the three-argument stopping rules: an error that rises is a change, the floor being 0") {
+  PaperTermination<double> term;
+  term.relative_tolerance = 0.5;
+  // |1 - 2.1| is not < 0.5 * 1: no stop, though E rose (the floor is 0, so
+  // neither error is at or below it).
+  CHECK(term.check(3, 2.1, 1.0) == std::nullopt);
+  CHECK(term.check(3, 2.1, 1.0, 0.0) == std::nullopt);
+  CHECK(term.check(3, 1.2, 1.0) == StopReason::RelativeTolerance);  // |1 - 1.2| < 0.5 * 1
+}
