@@ -150,4 +150,9 @@ TEST_CASE("mesh mutants: make_extrusion names the first fault of an outline that
   // Edge 0 inside edge 4: both its points lie on it; the first is named.
   CHECK(outline_error({{0, 0}, {1, 0}, {1, 1}, {3, 1}, {2, 0}, {-1, 0}, {-1, -1}, {0, -1}}) ==
         "outline: point 0 lies on edge 4: not a simple polygon");
+  // Point 0 on edge 4, edge 0 leaving it to the right of edge 4 (cross
+  // product < 0) while edge 4's ends are on both sides of edge 0: a touch,
+  // not a crossing (crossing needs both of an edge's ends strictly apart).
+  CHECK(outline_error({{0, 0}, {1, 2}, {3, 2}, {3, -1}, {2, 0}, {-2, 0}, {-2, -3}, {1, -3}}) ==
+        "outline: point 0 lies on edge 4: not a simple polygon");
 }
