@@ -487,6 +487,14 @@ TEST_CASE("iclap live: bad input exits 2 with a clear message") {
     contact->position.x() = 1e300;
     iclap::write_dataset_csv(scratch("train_far.csv"), d);
   }
+  // Two objects of one exploration each: enough to choose among, too few
+  // explorations to hold one out (c_clamp_2.csv alone is one object).
+  {
+    iclap::Dataset d = iclap::read_dataset_csv(kClamp);
+    const iclap::Dataset other = iclap::read_dataset_csv(kScissors);
+    d.frames.insert(d.frames.end(), other.frames.begin(), other.frames.end());
+    iclap::write_dataset_csv(scratch("two_single.csv"), d);
+  }
   const std::string refs = kTrain;
   const test::UsageCases cases = {
       {{"live", "--references", scratch("train_far.csv"), "--method", "0.5*icp+0.5*bow", "--replay", kClamp},
@@ -531,11 +539,16 @@ TEST_CASE("iclap live: bad input exits 2 with a clear message") {
        "--sweep-max-mm must be >= --sweep-min-mm, got 80 < 90"},
       {{"live", "--references", refs, "--method", kMethod, "--replay", scratch("grid2x2.csv")},
        "taxel grid 2x2 differs from the references' 14x6"},
-      {{"live", "--references", kClamp, "--replay", kClamp}, "give fixed weights"},
+      {{"live", "--references", scratch("two_single.csv"), "--replay", kClamp}, "give fixed weights"},
+      {{"live", "--references", kClamp, "--replay", kClamp},
+       kClamp + ": 1 object ('c_clamp'); recognition needs at least 2 objects to choose among"},
+      {{"live", "--references", kClamp, "--method", kMethod, "--replay", kScissors},
+       kClamp + ": 1 object ('c_clamp'); recognition needs at least 2 objects to choose among"},
       {{"live", "--references", refs, "--port", "/dev/iclap-none"}, "/dev/iclap-none"},
       {{"live", "--references", refs, "--cross-validate", "--replay", kClamp}, "--cross-validate takes no --replay"},
       {{"live", "--references", refs, "--cross-validate", "--fixed", "30"}, "--fixed: 30 exceeds --max-touches 20"},
-      {{"live", "--references", kClamp, "--cross-validate", "--method", kMethod}, "needs at least 2"},
+      {{"live", "--references", scratch("two_single.csv"), "--cross-validate", "--method", kMethod},
+       "exploration with touches; cross validation needs at least 2"},
       {{"live", "--references", refs, "--cross-validate", "--method", "iclap+icp"}, "at least 3 explorations"},
       {{"live", "--references", refs, "--cross-validate", "--method", "iclap+icp"}, refs + ": object '"},
       {{"live", "--references", refs, "--replay", kClamp, "--normalization", "minmax"}, "unknown option --normalization"},
