@@ -252,6 +252,13 @@ TEST_CASE("method names, parsing and the weight grid") {
         std::string::npos);
   CHECK(error_of([] { parse_method("(0.5*icp+0.5*bow)+(0.5*icp+0.5*bow)"); })
             .find("'0.5*icp+0.5*bow' appears twice in one sum") != std::string::npos);
+  // The same term spelt otherwise is the same term (as method_key has it).
+  CHECK(error_of([] { parse_method("icp*bow+bow*icp"); }).find("'bow*icp' appears twice in one sum") !=
+        std::string::npos);
+  CHECK(error_of([] { parse_method("(0.5*icp+0.5*bow)+(0.5*bow+0.5*icp)"); })
+            .find("'0.5*bow+0.5*icp' appears twice in one sum") != std::string::npos);
+  CHECK(error_of([] { parse_method("iclap*(0.5*icp+0.5*bow)*(0.5*bow+0.5*icp)"); })
+            .find("'0.5*bow+0.5*icp' appears twice in one product") != std::string::npos);
   // A classifier in two different terms is a real fusion, and so is a sum
   // whose weights are given.
   CHECK(parse_method("icp*bow+icp").classifiers() == std::vector<std::string>{"icp", "bow"});

@@ -85,6 +85,42 @@ inline Method with_variants(const Method& m, const std::string& classifier, cons
 
 namespace detail {
 
+/// The text of `f` with the terms of every sum and the factors of every
+/// product sorted, weights written exactly (method_key); `free_weights`:
+/// the weights of this sum (fitted ones) are left out.
+inline std::string fusion_key(const Fusion& f, bool free_weights) {
+  switch (f.kind()) {
+    case Fusion::Kind::Classifier: return f.name();
+    case Fusion::Kind::WeightedSum: {
+      // A sum of one term of weight 1 is that term ("1*icp" is "icp").
+      if (f.children().size() == 1 && f.weights()[0] == 1.0) return fusion_key(f.children()[0], false);
+      std::vector<std::string> terms;
+      for (std::size_t i = 0; i < f.children().size(); ++i) {
+        const std::string child = fusion_key(f.children()[i], false);
+        const bool bracket = f.children()[i].kind() == Fusion::Kind::WeightedSum && child.find('+') != std::string::npos;
+        const std::string term = bracket ? "(" + child + ")" : child;
+        terms.push_back(free_weights ? term : format_exact(f.weights()[i]) + "*" + term);
+      }
+      std::sort(terms.begin(), terms.end());
+      std::string out;
+      for (const auto& t : terms) out += (out.empty() ? "" : "+") + t;
+      return out;
+    }
+    case Fusion::Kind::Product: {
+      std::vector<std::string> factors;
+      for (const auto& c : f.children()) {
+        const std::string child = fusion_key(c, false);
+        factors.push_back(child.find('+') != std::string::npos ? "(" + child + ")" : child);
+      }
+      std::sort(factors.begin(), factors.end());
+      std::string out;
+      for (const auto& x : factors) out += (out.empty() ? "" : "*") + x;
+      return out;
+    }
+  }
+  return {};
+}
+
 /// Recursive-descent parser of method expressions:
 ///   sum     := term ('+' term)*
 ///   term    := [number '*'] product
@@ -149,7 +185,7 @@ class MethodParser {
     if (weighted == 0) {
       // A term given twice: every split of their weight gives the same
       // fusion, so the grid's choice would mean nothing ("icp+icp", a typo).
-      refuse_repeated(terms, [](const std::pair<double, Fusion>& t) { return t.second.to_string(); }, "sum");
+      refuse_repeated(terms, [](const std::pair<double, Fusion>& t) -> const Fusion& { return t.second; }, "sum");
       // Weights to be chosen by the grid: start from uniform ones.
       fit = true;
       const double u = 1.0 / static_cast<double>(terms.size());
@@ -165,19 +201,23 @@ class MethodParser {
     std::vector<Fusion> factors{factor()};
     while (eat('*')) factors.push_back(factor());
     // A factor given twice ranks the objects as it alone does ("icp*icp").
-    refuse_repeated(factors, [](const Fusion& f) { return f.to_string(); }, "product");
+    refuse_repeated(factors, [](const Fusion& f) -> const Fusion& { return f; }, "product");
     return factors.size() == 1 ? factors.front() : Fusion::product(std::move(factors));
   }
 
-  /// fail() naming the first item of `items` whose text (`text_of`) an
-  /// earlier one has.
-  template <typename Item, typename TextOf>
-  void refuse_repeated(const std::vector<Item>& items, TextOf text_of, const char* what) const {
-    for (std::size_t i = 1; i < items.size(); ++i)
-      for (std::size_t j = 0; j < i; ++j)
-        if (text_of(items[i]) == text_of(items[j]))
-          fail(quote_text(text_of(items[i]), 40) + " appears twice in one " + what +
-               "; give each classifier (or bracketed term) once");
+  /// fail() naming the first item of `items` whose fusion (`fusion_of`)
+  /// an earlier one has, up to the order of terms and factors (fusion_key,
+  /// as method_key compares methods: "icp*bow" and "bow*icp" are one term).
+  template <typename Item, typename FusionOf>
+  void refuse_repeated(const std::vector<Item>& items, FusionOf fusion_of, const char* what) const {
+    std::vector<std::string> keys;
+    for (const Item& item : items) {
+      std::string key = fusion_key(fusion_of(item), false);
+      if (std::find(keys.begin(), keys.end(), key) != keys.end())
+        fail(quote_text(fusion_of(item).to_string(), 40) + " appears twice in one " + what +
+             "; give each classifier (or bracketed term) once");
+      keys.push_back(std::move(key));
+    }
   }
 
   Fusion factor() {
@@ -222,45 +262,6 @@ inline Method parse_method(const std::string& spec) {
   return Method{name, std::move(fusion), fit, {}};
 }
 
-namespace detail {
-
-/// The text of `f` with the terms of every sum and the factors of every
-/// product sorted, weights written exactly (method_key); `free_weights`:
-/// the weights of this sum (fitted ones) are left out.
-inline std::string fusion_key(const Fusion& f, bool free_weights) {
-  switch (f.kind()) {
-    case Fusion::Kind::Classifier: return f.name();
-    case Fusion::Kind::WeightedSum: {
-      // A sum of one term of weight 1 is that term ("1*icp" is "icp").
-      if (f.children().size() == 1 && f.weights()[0] == 1.0) return fusion_key(f.children()[0], false);
-      std::vector<std::string> terms;
-      for (std::size_t i = 0; i < f.children().size(); ++i) {
-        const std::string child = fusion_key(f.children()[i], false);
-        const bool bracket = f.children()[i].kind() == Fusion::Kind::WeightedSum && child.find('+') != std::string::npos;
-        const std::string term = bracket ? "(" + child + ")" : child;
-        terms.push_back(free_weights ? term : format_exact(f.weights()[i]) + "*" + term);
-      }
-      std::sort(terms.begin(), terms.end());
-      std::string out;
-      for (const auto& t : terms) out += (out.empty() ? "" : "+") + t;
-      return out;
-    }
-    case Fusion::Kind::Product: {
-      std::vector<std::string> factors;
-      for (const auto& c : f.children()) {
-        const std::string child = fusion_key(c, false);
-        factors.push_back(child.find('+') != std::string::npos ? "(" + child + ")" : child);
-      }
-      std::sort(factors.begin(), factors.end());
-      std::string out;
-      for (const auto& x : factors) out += (out.empty() ? "" : "*") + x;
-      return out;
-    }
-  }
-  return {};
-}
-
-}  // namespace detail
 
 /// A text that two methods share exactly when they denote the same method
 /// up to the order of the terms of a sum and of the factors of a product,
