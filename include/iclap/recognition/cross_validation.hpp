@@ -263,21 +263,11 @@ class CrossValidation {
   /// its touches only when it reaches that fold.
   std::vector<std::vector<Index>> codebook_trainings() const {
     std::vector<std::vector<Index>> out;
-    for (int f = 0; f < folds_; ++f) {
-      std::vector<Index> train;
-      for (Index i = 0; i < table_.size(); ++i)
-        if (exploration_rank(i) != f) train.push_back(i);
-      out.push_back(std::move(train));
-    }
+    for (int f = 0; f < folds_; ++f) out.push_back(training_of(f));
     if (!settings_.inner_codebooks || fitted_classifiers_.empty()) return out;
     for (int f = 0; f < folds_; ++f)
-      for (int g = 0; g < folds_; ++g) {
-        if (g == f) continue;
-        std::vector<Index> inner;
-        for (Index i : out[static_cast<std::size_t>(f)])
-          if (exploration_rank(i) != g) inner.push_back(i);
-        out.push_back(std::move(inner));
-      }
+      for (int g = 0; g < folds_; ++g)
+        if (g != f) out.push_back(inner_training_of(out[static_cast<std::size_t>(f)], g));
     return out;
   }
 
@@ -349,9 +339,7 @@ class CrossValidation {
 
     for (int f = 0; f < folds_; ++f) {
       // Codebook from the training touches only.
-      std::vector<Index> train;
-      for (Index i = 0; i < table_.size(); ++i)
-        if (exploration_rank(i) != f) train.push_back(i);
+      const std::vector<Index> train = training_of(f);
       const Index k = fit_words(train, all.words);
       result.vocabulary.push_back(k);
 
@@ -364,9 +352,7 @@ class CrossValidation {
         std::vector<std::vector<DistanceTable>> inner_tables;
         for (int g = 0; g < folds_; ++g) {
           if (g == f) continue;
-          std::vector<Index> inner_train;
-          for (Index i : train)
-            if (exploration_rank(i) != g) inner_train.push_back(i);
+          const std::vector<Index> inner_train = inner_training_of(train, g);
           // The inner fold's own codebook (inner_codebooks), or the outer one.
           const Index inner_k = settings_.inner_codebooks ? fit_words(inner_train, inner_words.words) : k;
           const TouchSet& inner_all = settings_.inner_codebooks ? inner_words : all;
@@ -444,6 +430,25 @@ class CrossValidation {
     const auto& ids = explorations_[static_cast<std::size_t>(table_.object[static_cast<std::size_t>(i)])];
     const auto it = std::lower_bound(ids.begin(), ids.end(), table_.exploration[static_cast<std::size_t>(i)]);
     return static_cast<int>(it - ids.begin());
+  }
+
+  /// The touches fold `fold` trains on (its codebook, references and inner
+  /// folds): those of every exploration but the one of rank `fold`, in table
+  /// order.
+  std::vector<Index> training_of(int fold) const {
+    std::vector<Index> train;
+    for (Index i = 0; i < table_.size(); ++i)
+      if (exploration_rank(i) != fold) train.push_back(i);
+    return train;
+  }
+
+  /// Of a fold's training touches `train`, those its inner fold `inner`
+  /// trains on: without the explorations of rank `inner`.
+  std::vector<Index> inner_training_of(const std::vector<Index>& train, int inner) const {
+    std::vector<Index> out;
+    for (Index i : train)
+      if (exploration_rank(i) != inner) out.push_back(i);
+    return out;
   }
 
   std::size_t draws_count(int held_rank, int repeats) const {
