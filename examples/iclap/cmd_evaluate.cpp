@@ -620,33 +620,6 @@ void check_cloud_file_names(const std::vector<std::string>& objects) {
   }
 }
 
-/// Throws InvalidArgument naming "settings.k" (naming_inputs: --k, of the
-/// training touches from the file), as the codebook's fit in the run would,
-/// when k exceeds the features, or the distinct features, that a codebook
-/// of the run is fitted on: found before anything is printed, not when the
-/// run reaches that fold.
-void check_codebook_size(const CrossValidation<>& cv, const TouchTable& table, Index k) {
-  const Eigen::MatrixXf& features = table.touches.features;
-  for (auto train : cv.codebook_trainings()) {
-    const auto n = static_cast<Index>(train.size());
-    if (k > n)
-      throw InvalidArgument("settings.k", "k = " + std::to_string(k) + " exceeds the number of features (" +
-                                              std::to_string(n) + ")");
-    // Distinct features: sorted column by column, equal neighbours counted once.
-    const auto less = [&](Index a, Index b) {
-      for (Index r = 0; r < features.rows(); ++r)
-        if (features(r, a) != features(r, b)) return features(r, a) < features(r, b);
-      return false;
-    };
-    std::sort(train.begin(), train.end(), less);
-    Index distinct = n > 0 ? 1 : 0;
-    for (std::size_t j = 1; j < train.size(); ++j) distinct += less(train[j - 1], train[j]);
-    if (k > distinct)
-      throw InvalidArgument("settings.k", "k = " + std::to_string(k) + " exceeds the number of distinct features (" +
-                                              std::to_string(distinct) + ")");
-  }
-}
-
 /// The paper's range of touches (1..20, the default): always evaluated.
 constexpr int kPaperTouches = 20;
 
@@ -792,7 +765,7 @@ int run_evaluate(const Args& args) {
   // What the run would find only at some fold, refused before anything is
   // printed: a codebook larger than a fold's training touches, counts of
   // touches that only repeat the largest exploration's.
-  naming_inputs(origin, [&] { check_codebook_size(cv, table, ro.k); });
+  naming_inputs(origin, [&] { cv.check_codebooks(); });
   check_touch_counts(s.touches, cv.largest_held_out(), origin);
   const unsigned threads = s.threads > 0 ? static_cast<unsigned>(s.threads) : std::max(1u, std::thread::hardware_concurrency());
   std::printf("iclap %s evaluate\ndataset: %s\n", ICLAP_VERSION_STRING, origin.c_str());

@@ -17,6 +17,7 @@
 
 #include "iclap/core/random.hpp"
 #include "iclap/recognition/recognition.hpp"
+#include "../support/errors.hpp"
 #include "synthetic_objects.hpp"
 
 using namespace iclap;
@@ -674,6 +675,24 @@ struct RecordingQuantizer {
   Index size() const { return inner.size(); }
 };
 
+/// A RecordingQuantizer with the optional check(): records, in one log with
+/// the fits, every set of features it checks.
+struct CheckingQuantizer : RecordingQuantizer {
+  std::shared_ptr<std::vector<Eigen::MatrixXf>> checks = std::make_shared<std::vector<Eigen::MatrixXf>>();
+  std::shared_ptr<std::string> log = std::make_shared<std::string>();  // 'c' per check, 'f' per fit
+  void check(const Eigen::MatrixXf& features) const {
+    checks->push_back(features);
+    *log += 'c';
+    inner.check(features);
+  }
+  void fit(const Eigen::MatrixXf& features) {
+    *log += 'f';
+    RecordingQuantizer::fit(features);
+  }
+};
+static_assert(is_checkable_quantizer_v<CheckingQuantizer, Eigen::MatrixXf>);
+static_assert(!is_checkable_quantizer_v<RecordingQuantizer, Eigen::MatrixXf>);
+
 /// The features of the touches of `t` whose exploration is not in `out`, in
 /// table order.
 Eigen::MatrixXf features_without(const TouchTable& t, const std::vector<std::int64_t>& out) {
@@ -732,6 +751,34 @@ TEST_CASE("inner_codebooks: every inner fold fits its codebook without its held-
   CHECK(CrossValidation<RecordingQuantizer>(t, test::paper_classifiers, RecordingQuantizer{}, {parse_method("bow")}, s)
             .codebook_trainings()
             .size() == 4);
+
+  // A quantizer with check() has it called on the same sets, before any
+  // fit; run() calls it first too. One without check() is not checked.
+  CheckingQuantizer checking_q;
+  CrossValidation<CheckingQuantizer> checking(t, test::paper_classifiers, checking_q, methods, s);
+  checking.check_codebooks();
+  REQUIRE(checking_q.checks->size() == nested_sets.size());
+  for (std::size_t i = 0; i < nested_sets.size(); ++i)
+    CHECK(same(t.touches.features(Eigen::all, nested_sets[i]), (*checking_q.checks)[i]));
+  CHECK(checking_q.fits->empty());
+  checking_q.log->clear();
+  (void)checking.run();
+  CHECK(*checking_q.log == std::string(nested_sets.size(), 'c') + std::string(nested_sets.size(), 'f'));
+  plain.check_codebooks();  // RecordingQuantizer has no check(): nothing to call
+  CHECK(plain_q.fits->size() == 4);
+  // A codebook too large for the inner folds' training touches alone, not
+  // the folds': refused by run() before the first fit.
+  std::size_t fewest = nested_sets.front().size();
+  for (const auto& set : nested_sets) fewest = std::min(fewest, set.size());
+  REQUIRE(fewest < nested_sets.front().size());
+  CheckingQuantizer big_q;
+  big_q.inner.settings.k = static_cast<Index>(fewest) + 1;
+  CrossValidation<CheckingQuantizer> big(t, test::paper_classifiers, big_q, methods, s);
+  CHECK(test::what_of([&] { (void)big.run(); }) == "settings.k: k = " + std::to_string(fewest + 1) +
+                                                       " exceeds the number of features (" + std::to_string(fewest) +
+                                                       ")");
+  CHECK(big_q.fits->empty());
+  CHECK(*big_q.log == std::string(4 + 1, 'c'));  // the 4 folds' sets, then the first inner fold's
 
   // The outer test uses the fold's codebook either way: a method without
   // fitted weights recognises exactly as before.

@@ -11,6 +11,7 @@
 #include <set>
 #include <string>
 #include <type_traits>
+#include <typeinfo>
 #include <utility>
 #include <vector>
 
@@ -366,6 +367,59 @@ TEST_CASE("k-means: bad input is a typed error naming argument, row and column")
   CHECK_THROWS_AS(q.assign(nan_feature), NonFiniteValue);
   CHECK_THROWS_AS(q.fit_from(x, Cloud<float, Eigen::Dynamic>::Zero(3, 3)), DimensionMismatch);
   CHECK_THROWS_AS(q.fit_from(x, Cloud<float, Eigen::Dynamic>::Zero(4, 2)), InvalidArgument);
+}
+
+TEST_CASE("k-means: check() throws what fit() would, without fitting") {
+  using C = Cloud<float, Eigen::Dynamic>;
+  // The type and what() of what `f` throws, "(no error)" if nothing.
+  const auto outcome = [](auto&& f) -> std::string {
+    try {
+      f();
+    } catch (const std::exception& e) {
+      return std::string(typeid(e).name()) + ": " + e.what();
+    }
+    return "(no error)";
+  };
+  // 35 features, 7 distinct (fit() finds that only while seeding); one with
+  // a NaN; one whose spread underflows; an empty one; 7 of 7 and 6 of 7
+  // distinct.
+  C dup(3, 35);
+  const Eigen::MatrixXf distinct = random_centres(3, 7, 1.0, 43).cast<float>();
+  for (Index i = 0; i < 35; ++i) dup.col(i) = distinct.col((i * 3) % 7);
+  C nan = dup;
+  nan(1, 20) = std::numeric_limits<float>::quiet_NaN();
+  const C tiny = 1e-25f * C::Random(3, 4);
+  C six(3, 7);  // 7 features, 6 distinct
+  six << dup.leftCols(6), dup.col(0);
+  const std::vector<C> sets = {dup, nan, tiny, C(3, 0), dup.leftCols(7), six};
+  std::vector<std::string> refusals;
+  for (const Index k : {Index(0), Index(1), Index(6), Index(7), Index(8), Index(35), Index(36)})
+    for (std::size_t i = 0; i < sets.size(); ++i)
+      for (const int iterations : {-1, 5}) {
+        CAPTURE(k);
+        CAPTURE(i);
+        CAPTURE(iterations);
+        KMeansQuantizer<float> q;
+        q.settings.k = k;
+        q.settings.max_iterations = iterations;
+        const std::string checked = outcome([&] { q.check(sets[i]); });
+        CHECK(!q.fitted());
+        const std::string fitted = outcome([&] { q.fit(sets[i]); });
+        CHECK(checked == fitted);
+        CHECK(q.fitted() == (fitted == "(no error)"));
+        refusals.push_back(checked);
+      }
+  // The cases reach every refusal, the seeding one among them, and a fit.
+  for (const char* reason : {"(no error)", "settings.k: must be at least 1", "settings.max_iterations",
+                             "exceeds the number of features (35)", "k = 8 exceeds the number of distinct features (7)",
+                             "k = 7 exceeds the number of distinct features (6)", "features: ", "underflow"}) {
+    const std::string text = reason;
+    CAPTURE(text);
+    CHECK(std::any_of(refusals.begin(), refusals.end(),
+                      [&](const std::string& r) { return r.find(text) != std::string::npos; }));
+  }
+  static_assert(is_checkable_quantizer_v<KMeansQuantizer<float>, Eigen::MatrixXf>);
+  static_assert(is_checkable_quantizer_v<KMeansQuantizer<double, 3>, Cloud<double, 3>>);
 }
 
 TEST_CASE_TEMPLATE("k-means: features whose squared distances the scalar type cannot hold are refused", T, float,

@@ -271,6 +271,19 @@ class CrossValidation {
     return out;
   }
 
+  /// Throws what fitting a codebook of run() would throw, naming the
+  /// quantizer's setting, for a quantizer with the optional `check` (see
+  /// tactile/quantizer.hpp), e.g. KMeansQuantizer's settings.k above a
+  /// fold's (distinct) training features; does nothing for a quantizer
+  /// without it. run() calls it before fitting anything, so such a setting
+  /// is refused at once rather than at the fold whose codebook it does not
+  /// suit; call it yourself to refuse it before printing anything.
+  void check_codebooks() const {
+    if constexpr (is_checkable_quantizer_v<Quantizer, Eigen::MatrixXf>)
+      for (const auto& train : codebook_trainings())
+        quantizer_.check(Eigen::MatrixXf(table_.touches.features(Eigen::all, train)));
+  }
+
   /// The most folds: the random stream of a draw has 16 bits for the fold.
   static constexpr int kMaxFolds = (1 << 16) - 1;
 
@@ -288,7 +301,9 @@ class CrossValidation {
   }
 
   /// Runs every fold. `progress` gets (test sets done, test sets in all).
+  /// Throws what check_codebooks() throws before fitting anything.
   CrossValidationResult run(const ProgressCallback& progress = {}) {
+    check_codebooks();
     const Index n_objects = static_cast<Index>(table_.objects.size());
     const std::size_t nt = settings_.touches.size();
     CrossValidationResult result;

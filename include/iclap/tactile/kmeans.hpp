@@ -188,14 +188,21 @@ class KMeansQuantizer {
   /// max_iterations). Cost O(iterations x n x k x d) without pruning; with
   /// it, late iterations cost little more than O(n x d).
   KMeansResult fit(const Features& features, const ProgressCallback& progress = {}) {
-    validate_settings();
-    check_features(features);
-    const Index n = features.cols();
-    if (settings.k > n)
-      throw InvalidArgument("settings.k", "k = " + std::to_string(settings.k) +
-                                              " exceeds the number of features (" + std::to_string(n) + ")");
+    check_before_seeding(features);
     Features centres = seed_plus_plus(features);
     return run(features, std::move(centres), progress);
+  }
+
+  /// Throws exactly what fit(features) would throw for these features and
+  /// the current settings, without fitting (the quantizer is unchanged),
+  /// so that a caller with many codebooks to fit (CrossValidation, one per
+  /// fold) can refuse settings before the first: k beyond the distinct
+  /// features, which fit() finds only while seeding, is found here by
+  /// counting them. Cost O(n log n x d) for n features of dimension d.
+  void check(const Features& features) const {
+    check_before_seeding(features);
+    const Index distinct = count_distinct(features);
+    if (settings.k > distinct) throw too_many_words(distinct);
   }
 
   /// Same as fit() from user-chosen initial centres (one per column, exactly
@@ -303,6 +310,17 @@ class KMeansQuantizer {
                                             format_value(smallest_spread<Scalar>()) +
                                             ": squared distances at this scale underflow the scalar type; rescale "
                                             "the features");
+  }
+
+  /// fit()'s checks before the k-means++ draw, which finds k beyond the
+  /// distinct features itself.
+  void check_before_seeding(const Features& features) const {
+    validate_settings();
+    check_features(features);
+    const Index n = features.cols();
+    if (settings.k > n)
+      throw InvalidArgument("settings.k", "k = " + std::to_string(settings.k) +
+                                              " exceeds the number of features (" + std::to_string(n) + ")");
   }
 
   InvalidArgument too_many_words(Index distinct) const {

@@ -21,6 +21,12 @@
 ///    integer word id in [0, q.size()); const and thread-safe;
 ///  - `q.size()` is callable on a `const Q&` and returns the number of words
 ///    (an integer), valid after fit().
+/// Optional: `q.check(features)` callable on a `const Q&` with a `const F&`,
+/// throwing what `fit(features)` would throw without fitting (settings that
+/// do not suit these features, say a codebook larger than their distinct
+/// values). CrossValidation calls it on every codebook's training features
+/// before fitting the first (is_checkable_quantizer_v; KMeansQuantizer has
+/// it); a quantizer without it is found out by its fit, at its fold.
 /// Word ids are plain labels unless the quantizer documents an ordering
 /// (KMeansQuantizer's WordOrdering makes neighbouring ids similar words).
 
@@ -58,6 +64,12 @@ template <typename Q>
 struct has_quantizer_size<Q, std::void_t<decltype(std::declval<const Q&>().size())>>
     : std::is_integral<std::decay_t<decltype(std::declval<const Q&>().size())>> {};
 
+template <typename Q, typename F, typename = void>
+struct has_quantizer_check : std::false_type {};
+template <typename Q, typename F>
+struct has_quantizer_check<Q, F, std::void_t<decltype(std::declval<const Q&>().check(std::declval<const F&>()))>>
+    : std::true_type {};
+
 template <typename F, typename = void>
 struct is_feature_matrix : std::false_type {};
 template <typename F>
@@ -70,6 +82,10 @@ struct is_feature_matrix<F, std::void_t<typename F::Scalar>>
 template <typename Q, typename F>
 constexpr bool is_quantizer_for_v = detail::is_feature_matrix<F>::value && detail::has_quantizer_fit<Q, F>::value &&
                                     detail::has_quantizer_assign<Q, F>::value && detail::has_quantizer_size<Q>::value;
+
+/// True when Q also has the optional `check(const F&) const` (see above).
+template <typename Q, typename F>
+constexpr bool is_checkable_quantizer_v = detail::has_quantizer_check<Q, F>::value;
 
 /// Fails to compile, with a message naming the missing requirement, unless
 /// Q models the Quantizer concept for feature matrices of type F.
