@@ -196,13 +196,14 @@ class DatasetCsvAppender {
     }
     if (header_line == 0)
       throw ParseError(path_, line_no, "existing file has no header row; cannot append to it");
-    check_header(header, header_line);
-    index_rows(header, rows);
+    std::vector<std::string_view> header_fields;
+    detail::split_fields(header, header_fields);
+    check_header(header_fields, header_line);
+    index_rows(header_fields, rows);
     lines_ = line_no;
     if (unterminated_start > 0) {
-      std::vector<std::string_view> fields, header_fields;
+      std::vector<std::string_view> fields;
       detail::split_fields(unterminated, fields);
-      detail::split_fields(header, header_fields);
       if (!detail::trim_ascii(unterminated).empty() && fields.size() >= header_fields.size())
         throw ParseError(path_, line_no,
                          "the last row has " + std::to_string(fields.size()) + " fields (the header has " +
@@ -223,16 +224,17 @@ class DatasetCsvAppender {
   // frames_, so that append refuses a second row of a frame. A row whose
   // object, exploration or frame the reader would refuse is counted and not
   // indexed: the file is unreadable already, and stays as it was.
-  void index_rows(std::string_view header, const std::vector<std::pair<std::string_view, std::size_t>>& rows) {
-    std::vector<std::string_view> fields;
-    detail::split_fields(header, fields);
+  // `header`: the header's fields, checked by check_header.
+  void index_rows(const std::vector<std::string_view>& header,
+                  const std::vector<std::pair<std::string_view, std::size_t>>& rows) {
     std::size_t i_object = 0, i_expl = 0, i_frame = 0;
-    for (std::size_t i = 0; i < fields.size(); ++i) {
-      if (fields[i] == "object") i_object = i;
-      if (fields[i] == "exploration") i_expl = i;
-      if (fields[i] == "frame") i_frame = i;
+    for (std::size_t i = 0; i < header.size(); ++i) {
+      if (header[i] == "object") i_object = i;
+      if (header[i] == "exploration") i_expl = i;
+      if (header[i] == "frame") i_frame = i;
     }
     const std::size_t needed = std::max({i_object, i_expl, i_frame}) + 1;
+    std::vector<std::string_view> fields;
     for (const auto& row : rows) {
       ++rows_in_file_;
       detail::split_fields(row.first, fields);
@@ -244,9 +246,8 @@ class DatasetCsvAppender {
     }
   }
 
-  void check_header(std::string_view header, std::size_t line) {
-    std::vector<std::string_view> fields;
-    detail::split_fields(header, fields);
+  // `fields`: the header's, found on line `line`.
+  void check_header(const std::vector<std::string_view>& fields, std::size_t line) {
     const auto expected = columns_.names();
     const auto ours = detail::writer_slots(columns_);
     std::set<std::string> want(expected.begin(), expected.end()), seen;
