@@ -80,17 +80,17 @@ struct RecognitionOptions {
   Index patch_points = 8;            ///< contact points per test touch (patch classifiers)
   double patch_voxel = 0.002;        ///< reference voxel, metres (patch classifiers)
   // The occupancy classifier (OccupancyClassifier's members, metres /
-  // radians; configure_occupancy).
-  double occupancy_voxel = 1e-3;
-  double occupancy_truncation = 3e-3;
-  double occupancy_free_radius = 2e-3;
-  double occupancy_conflict = 0.3;
-  double occupancy_unknown = 1;
-  double occupancy_back = 0;
-  double placement_shift = 10e-3;
-  double placement_yaw = 10.0 * 3.14159265358979323846 / 180;
-  double placement_shift_step = 4e-3;
-  double placement_yaw_step = 5.0 * 3.14159265358979323846 / 180;
+  // radians; configure_occupancy), by default the library's defaults.
+  double occupancy_voxel = occupancy_defaults().voxel;
+  double occupancy_truncation = occupancy_defaults().truncation;
+  double occupancy_free_radius = occupancy_defaults().free_radius;
+  double occupancy_conflict = occupancy_defaults().conflict_weight;
+  double occupancy_unknown = occupancy_defaults().unknown_cost;
+  double occupancy_back = occupancy_defaults().back_depth;
+  double placement_shift = occupancy_defaults().placements.max_shift;
+  double placement_yaw = occupancy_defaults().placements.max_yaw;
+  double placement_shift_step = occupancy_defaults().placements.shift_step;
+  double placement_yaw_step = occupancy_defaults().placements.yaw_step;
   /// Settings of the occupancy classifier for the training folds to choose
   /// among (beyond the paper), like --trim auto: every combination of the
   /// values that --occupancy-truncation, -free-radius, -conflict, -unknown
@@ -581,6 +581,13 @@ struct RecognitionOptions {
 
   /// Sets `c` as the occupancy options ask, with the settings of `variant`
   /// if given (the classifier's settings only; its name is left as it is).
+  /// A default OccupancyClassifier, whose settings the occupancy options
+  /// start from.
+  static const OccupancyClassifier& occupancy_defaults() {
+    static const OccupancyClassifier defaults;
+    return defaults;
+  }
+
   void configure_occupancy(OccupancyClassifier& c, const OccupancyVariant* variant = nullptr) const {
     c.voxel = occupancy_voxel;
     c.truncation = variant ? variant->truncation : occupancy_truncation;

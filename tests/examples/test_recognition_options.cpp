@@ -20,6 +20,7 @@ namespace {
 
 using iclap::cli::Args;
 using iclap::cli::Options;
+using iclap::OccupancyClassifier;
 using iclap::cli::RecognitionOptions;
 
 RecognitionOptions parsed(const Args& args) {
@@ -179,6 +180,20 @@ TEST_CASE("without options the settings are the defaults the usage text gives") 
   CHECK(ro.placement_shift_step == 0.004);
   CHECK(ro.placement_yaw == doctest::Approx(10 * std::acos(-1.0) / 180));
   CHECK(ro.placement_yaw_step == doctest::Approx(5 * std::acos(-1.0) / 180));
+  // The occupancy settings are the library's defaults (the values above
+  // are the usage text's: a change of the library's shows there).
+  OccupancyClassifier configured, library;
+  ro.configure_occupancy(configured);
+  CHECK(configured.voxel == library.voxel);
+  CHECK(configured.truncation == library.truncation);
+  CHECK(configured.free_radius == library.free_radius);
+  CHECK(configured.conflict_weight == library.conflict_weight);
+  CHECK(configured.unknown_cost == library.unknown_cost);
+  CHECK(configured.back_depth == library.back_depth);
+  CHECK(configured.placements.max_shift == library.placements.max_shift);
+  CHECK(configured.placements.shift_step == library.placements.shift_step);
+  CHECK(configured.placements.max_yaw == library.placements.max_yaw);
+  CHECK(configured.placements.yaw_step == library.placements.yaw_step);
 }
 
 TEST_CASE("options at their bounds are accepted; beyond them refused, naming the option and the value as given") {
