@@ -579,8 +579,6 @@ struct RecognitionOptions {
     }
   }
 
-  /// Sets `c` as the occupancy options ask, with the settings of `variant`
-  /// if given (the classifier's settings only; its name is left as it is).
   /// A default OccupancyClassifier, whose settings the occupancy options
   /// start from.
   static const OccupancyClassifier& occupancy_defaults() {
@@ -588,6 +586,8 @@ struct RecognitionOptions {
     return defaults;
   }
 
+  /// Sets `c` as the occupancy options ask, with the settings of `variant`
+  /// if given (the classifier's settings only; its name is left as it is).
   void configure_occupancy(OccupancyClassifier& c, const OccupancyVariant* variant = nullptr) const {
     c.voxel = occupancy_voxel;
     c.truncation = variant ? variant->truncation : occupancy_truncation;
