@@ -694,14 +694,14 @@ int run_evaluate(const Args& args) {
   ro.parse(opt);
   CrossValidationSettings s;
   s.touches = parse_touches(opt.string("touches", "1..20"));
-  s.repeats = static_cast<int>(opt.integer("repeats", 10, 1, 100000));
-  s.weight_repeats = static_cast<int>(opt.integer("weight-repeats", 2, 1, 100000));
+  s.repeats = static_cast<int>(opt.integer("repeats", s.repeats, 1, 100000));
+  s.weight_repeats = static_cast<int>(opt.integer("weight-repeats", s.weight_repeats, 1, 100000));
   s.zero_weights = opt.flag("zero-weights");
   s.inner_codebooks = opt.flag("inner-codebooks");
-  s.seed = static_cast<std::uint64_t>(opt.integer("seed", 1, 0));
+  s.seed = static_cast<std::uint64_t>(opt.integer("seed", static_cast<long long>(s.seed), 0));
   ro.codebook_seed = s.seed;
   s.normalization = parse_normalization(opt.choice("normalization", {"l2", "minmax", "zscore"}, "l2"));
-  s.threads = static_cast<int>(opt.integer("threads", 0, 0, 4096));
+  s.threads = static_cast<int>(opt.integer("threads", s.threads, 0, 4096));
   const std::vector<Method> named = parse_methods(opt.string("methods", "paper"));
   const fs::path out = opt.string("out", "results");
   {

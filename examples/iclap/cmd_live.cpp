@@ -240,7 +240,7 @@ int run_cross_validation(const Options& o, const Setup& setup, const std::string
   s.cross_validation = setup.cv;
   s.cross_validation.touches.clear();
   for (int n = 1; n <= max_touches; ++n) s.cross_validation.touches.push_back(n);
-  s.cross_validation.repeats = static_cast<int>(o.integer("repeats", 10, 1, 100000));
+  s.cross_validation.repeats = static_cast<int>(o.integer("repeats", s.cross_validation.repeats, 1, 100000));
   s.cross_validation.weight_sweeps = false;
   s.cross_validation.inner_codebooks = o.flag("inner-codebooks");
 
@@ -710,11 +710,11 @@ int run_live_command(const Args& args) {
   if (setup.ro.occupancy_is_auto())
     throw UsageError("lists of --occupancy-* values are chosen by iclap evaluate's cross validation; live "
                      "recognition needs one value of each");
-  setup.cv.seed = static_cast<std::uint64_t>(o.integer("seed", 1, 0));
+  setup.cv.seed = static_cast<std::uint64_t>(o.integer("seed", static_cast<long long>(setup.cv.seed), 0));
   setup.ro.codebook_seed = setup.cv.seed;
-  setup.cv.weight_repeats = static_cast<int>(o.integer("weight-repeats", 2, 1, 100000));
+  setup.cv.weight_repeats = static_cast<int>(o.integer("weight-repeats", setup.cv.weight_repeats, 1, 100000));
   setup.cv.zero_weights = o.flag("zero-weights");
-  setup.cv.threads = static_cast<int>(o.integer("threads", 0, 0, 4096));
+  setup.cv.threads = static_cast<int>(o.integer("threads", setup.cv.threads, 0, 4096));
   const std::vector<std::string> needed = needed_classifiers({setup.method});
   const RecognitionOptions ro = setup.ro;
   setup.factory = [ro, needed] { return make_classifiers(ro, needed); };
