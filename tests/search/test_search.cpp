@@ -336,9 +336,9 @@ TEST_CASE_TEMPLATE("adaptive search: brute force on small clouds, a kd-tree on l
 TEST_CASE("a hint whose squared distance overflows is no neighbour, as without the hint") {
   // Every squared distance overflows float: no neighbour, hinted or not
   // (the hint was returned with distance inf, and ICP went on with E = inf).
-  Cloud<float, 3> p(3, 2);
-  p.col(0) << 1e30f, 0, 0;
-  p.col(1) << 2e30f, 0, 0;
+  Cloud<float, 3> p = Cloud<float, 3>::Zero(3, 2);
+  p(0, 0) = 1e30f;
+  p(0, 1) = 2e30f;
   const KdTreeSearch<float, 3> tree(p);
   const BruteForceSearch<float, 3> brute(p);
   const float q[3] = {-1e30f, 0, 0};
