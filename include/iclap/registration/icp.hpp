@@ -449,7 +449,10 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
     icp.rejection.validate();
     b_ = working_test_points(reference, test, initial, ws);
     const Index d = reference.dim(), n = test.cols();
-    if (initial) initial_ = *initial;
+    if (initial) {
+      initial_ = *initial;
+      has_initial_ = true;
+    }
     ws.pairs.resize(static_cast<std::size_t>(n));
     // Sized now, so that no iteration allocates (the first step swaps it in).
     ws.previous_pairs.resize(static_cast<std::size_t>(n));
@@ -546,9 +549,9 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
     translation.head(b_) = (AccBlockMatrix::Identity(b_, b_) - A.topLeftCorner(b_, b_)) * block_of(c, b_) +
                            t_acc_.cwiseQuotient(wb);
     AccMatrix R_final = A;
-    if (initial_) {
-      R_final = A * initial_->R.template cast<Acc>();
-      translation += A * initial_->t.template cast<Acc>();
+    if (has_initial_) {
+      R_final = A * initial_.R.template cast<Acc>();
+      translation += A * initial_.t.template cast<Acc>();
     }
     Transform T;
     T.R = R_final.template cast<Scalar>();
@@ -609,7 +612,13 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
   const Icp* icp_;
   const ReferenceCloud<Scalar, Dim, Search>* reference_;
   Workspace* ws_;
-  std::optional<Transform> initial_;
+  // Not a std::optional: g++ 12 at -O1 took the payload of an empty one,
+  // moved in std::stable_partition of RegistrationClassifier's live
+  // registrations, for uninitialised (a -Wmaybe-uninitialized false
+  // positive, an error under -Werror). The identity (0 x 0 for a run-time
+  // dimension) is never used; it only keeps a fixed-size one initialised.
+  Transform initial_ = Transform::identity();
+  bool has_initial_ = false;
   Index b_ = 0;
   AccBlockMatrix R_acc_;
   AccBlockVector t_acc_;
