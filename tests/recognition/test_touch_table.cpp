@@ -134,14 +134,15 @@ TEST_CASE("touch table: a descriptor whose length changes between frames is refu
 // (tactile/descriptor.hpp: N positive); extract_features refuses it naming
 // "features", but make_touch_table built a table with 0 x n features, which
 // TouchSet::validate reads as "no features", so the error came much later
-// (k-means: "features: has dimension 0"). Skipped: fails with the current headers.
-TEST_CASE("touch table: a descriptor that returns an empty feature is refused, as extract_features refuses it" *
-          doctest::skip()) {
+// (k-means: "features: has dimension 0"). Found by an audit from a user's side.
+TEST_CASE("touch table: a descriptor that returns an empty feature is refused, as extract_features refuses it") {
   struct EmptyDescriptor {
     Eigen::VectorXf compute(const TactileImage&) const { return Eigen::VectorXf(); }
   };
   const Dataset ds = wts_dataset({frame("a", 0, 0, 90.0), frame("a", 0, 1, 90.0)});
   CHECK_THROWS_AS((void)make_touch_table(ds, EmptyDescriptor{}, 20.0), EmptyInput);
+  CHECK(test::what_of([&] { (void)make_touch_table(ds, EmptyDescriptor{}, 20.0); }) ==
+        "features: descriptor returned an empty feature for dataset.frames[0]");
 }
 
 TEST_CASE("touch sets: offsets start at 0, normals are unit vectors either way, one word per touch") {

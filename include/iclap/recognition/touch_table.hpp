@@ -214,7 +214,14 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
     t.exploration[ju] = f.exploration;
     t.frame[ju] = f.frame;
     const auto feature = descriptor.compute(TactileImage(f.pressures));
-    if (j == 0) t.touches.features.resize(feature.size(), n);
+    if (j == 0) {
+      // As extract_features: an empty feature breaks the Descriptor concept,
+      // and 0 x n features would read as "no features" until the codebook.
+      if (feature.size() == 0)
+        throw EmptyInput("features", "descriptor returned an empty feature for dataset.frames[" +
+                                         std::to_string(kept[ju]) + "]");
+      t.touches.features.resize(feature.size(), n);
+    }
     // (A descriptor's length follows the image size, which a hand-built
     // dataset may vary: a shorter feature was cut, a longer one read past.)
     check_dimension(feature.size(), t.touches.features.rows(),
