@@ -78,7 +78,7 @@ TEST_CASE("README: N-D labeled ICP recovers a known planar motion") {
   iclap::Icp<double, 4, iclap::Planar> icp;   // FullRigid (the paper), SpatialRigid, Planar, Translation
   icp.termination.max_iterations = 30;         // the paper's three rules, see termination.hpp
   icp.rejection.trim_fraction = 0.9;           // optional: max_distance, trimming
-  const auto r = icp.align(reference, test);   // or align(reference, test, initial_guess)
+  const auto r = icp.align(reference, test);   // or align(reference, test, initial_guess): R a rotation
   // r.T_model_test (R, t, matrix()), r.error (E), r.rmse, r.iterations,
   // r.converged, r.stop_reason, r.pairs, r.degenerate
 

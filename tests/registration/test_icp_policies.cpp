@@ -125,8 +125,8 @@ TEST_CASE("NaN or Inf anywhere, empty clouds and mismatched dimensions are typed
     CHECK(argument_of([&] { (void)icp.align(ref, model, init); }) == "initial");
   }
   init = RigidTransform<double, 3>::identity();
-  init.R *= 1e200;
-  CHECK(argument_of([&] { (void)icp.align(ref, model, init); }) == "initial");
+  init.R *= 1e200;  // no rotation: refused before its reach is measured
+  CHECK(argument_of([&] { (void)icp.align(ref, model, init); }) == "initial.R");
   RigidTransform<float, 3> finit = RigidTransform<float, 3>::identity();
   finit.t(0) = 1e20f;
   CHECK(argument_of([&] { (void)Icp<float, 3>().align(fref, model.cast<float>(), finit); }) == "initial");
@@ -504,6 +504,72 @@ TEST_CASE("the iterations reuse the workspace's buffers from the first step on")
     CHECK(same);
   }
   CHECK(steps > 0);
+}
+
+TEST_CASE("an initial guess that is no rotation is refused naming initial.R; rotations and weighted results pass") {
+  const Eigen::MatrixXd model = random_points(4, 120, 91);
+  Eigen::VectorXd t;
+  const Eigen::MatrixXd R = random_motion<FullRigid>(4, 0.2, 0.1, 92, t);
+  const Eigen::MatrixXd test = R.transpose() * (model.colwise() - t);
+  const ReferenceCloud<double, 4> ref(model);
+  const Icp<double, 4> icp;
+  using T4 = RigidTransform<double, 4>;
+
+  // The exact answer passes (and is kept); so does any rotation.
+  const auto exact = icp.align(ref, test, T4{R, t});
+  CHECK(exact.error < 1e-20);
+  CHECK(what_of([&] { (void)icp.align(ref, test, T4{R.transpose(), t}); }) == "(no error)");
+
+  T4 bad{R, t};
+  bad.R *= 1.01;  // scaled
+  const std::string scaled = what_of([&] { (void)icp.align(ref, test, bad); });
+  CHECK(scaled.find("initial.R: is not orthogonal: the largest entry of |R^T R - I| is 0.0201") == 0);
+  CHECK(argument_of([&] { (void)icp.align(ref, test, bad); }) == "initial.R");
+  bad.R = R;
+  bad.R.col(2) *= -1.0;  // a reflection
+  CHECK(what_of([&] { (void)icp.align(ref, test, bad); }).find("initial.R: is orthogonal with det -1 (a reflection)") ==
+        0);
+  bad.R = R;
+  bad.R(0, 1) += 0.01;  // sheared
+  CHECK(argument_of([&] { (void)icp.align(ref, test, bad); }) == "initial.R");
+  bad.R = Eigen::Matrix4d::Identity();
+  bad.R(3, 3) = 16.0;  // det 16, one coordinate only
+  CHECK(argument_of([&] { (void)icp.align(ref, test, bad); }) == "initial.R");
+  bad.R(3, 3) = 0.0;  // singular
+  CHECK(argument_of([&] { (void)icp.align(ref, test, bad); }) == "initial.R");
+  // Within the tolerance (a rotation typed to six decimals) is accepted.
+  bad.R = (R * 1e6).array().round() / 1e6;
+  CHECK(what_of([&] { (void)icp.align(ref, test, bad); }) == "(no error)");
+
+  // A weighted reference's result is W^-1 Q W, no orthogonal matrix: fed
+  // back as the guess of the same reference it passes and is already the
+  // answer; a plain rotation passes too.
+  const Eigen::Vector4d w(1.0, 1.0, 1.0, 3.0);
+  const ReferenceCloud<double, 4> weighted(model, w);
+  const Eigen::MatrixXd Rw = w.cwiseInverse().asDiagonal() * R * w.asDiagonal();
+  const Eigen::MatrixXd wtest = Rw.inverse() * (model.colwise() - t);
+  const auto first = icp.align(weighted, wtest);
+  CHECK(first.error < 1e-16);
+  CHECK(difference(first.T_model_test.R.transpose() * first.T_model_test.R, Eigen::Matrix4d::Identity()) > 0.01);
+  CHECK(difference(first.T_model_test.R, Rw) < 1e-9);
+  const auto again = icp.align(weighted, wtest, first.T_model_test);
+  CHECK(again.error <= first.error * (1 + 1e-9) + 1e-20);
+  CHECK(what_of([&] { (void)icp.align(weighted, test, T4{R, t}); }) == "(no error)");
+  // The same W^-1 Q W for unit weights is no rotation.
+  CHECK(argument_of([&] { (void)icp.align(ref, test, first.T_model_test); }) == "initial.R");
+
+  // A run-time dimension of 40 whose guess rotates two coordinates.
+  const Eigen::MatrixXd big = random_points(40, 60, 93);
+  const ReferenceCloud<double, Eigen::Dynamic> dref(big);
+  RigidTransform<double, Eigen::Dynamic> yaw = RigidTransform<double, Eigen::Dynamic>::identity(40);
+  yaw.R.topLeftCorner<2, 2>() << 0.6, -0.8, 0.8, 0.6;
+  CHECK(what_of([&] { (void)Icp<double, Eigen::Dynamic>().align(dref, big, yaw); }) == "(no error)");
+  yaw.R(39, 39) = -1.0;
+  CHECK(argument_of([&] { (void)Icp<double, Eigen::Dynamic>().align(dref, big, yaw); }) == "initial.R");
+  // float: a rotation rounded to float passes.
+  const ReferenceCloud<float, 4> fref(model.cast<float>());
+  const RigidTransform<float, 4> fguess{R.cast<float>(), t.cast<float>()};
+  CHECK(what_of([&] { (void)Icp<float, 4>().align(fref, test.cast<float>().eval(), fguess); }) == "(no error)");
 }
 
 TEST_CASE("initial transform and centroid alignment") {

@@ -107,7 +107,9 @@ class Icp {
   }
 
   /// Same, starting from `initial` (a guess of T_model_test; the model's
-  /// motion is estimated on top of it, so any rigid guess is allowed).
+  /// motion is estimated on top of it, so any rigid guess is allowed). A
+  /// guess whose R is no rotation (see RigidTransform::check_rotation; a
+  /// result for the same reference is one) is refused naming "initial.R".
   template <typename Search, typename Derived>
   Result align(const ReferenceCloud<Scalar, Dim, Search>& reference, const Eigen::MatrixBase<Derived>& test,
                const Transform& initial) const {
@@ -258,7 +260,10 @@ class Icp {
     check_dimension(test.rows(), d, "test");
     check_finite(test, "test");
     Model::check_dimension(d);
-    if (initial) initial->validate(d, "initial");
+    if (initial) {
+      initial->validate(d, "initial");
+      initial->check_rotation(reference.weights(), "initial");
+    }
     const Index n = test.cols();
     const AccPoint c = reference.centroid_accurate();
     const AccPoint w = reference.weights().template cast<Acc>();

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -75,6 +77,58 @@ struct RigidTransform {
     check_dimension(t.size(), expected_dim, argument + ".t");
     check_finite(R, argument + ".R");
     check_finite(t, argument + ".t");
+  }
+
+  /// The largest entry of |Q^T Q - I| that `check_rotation` lets pass: R
+  /// typed to four decimals passes, a scale of 1.001 does not.
+  static constexpr double rotation_tolerance = 1e-3;
+
+  /// Throws InvalidArgument naming `argument`.R unless R is a rotation:
+  /// orthogonal with det +1, or W^-1 Q W with such a Q and W =
+  /// diag(`weights`) (the form of a result for a ReferenceCloud with those
+  /// per-axis weights, see above), orthogonal meaning within
+  /// `rotation_tolerance`. For a guess: ICP composes its motion with it, so
+  /// a scaled, sheared or reflected guess gives a result that is not a
+  /// rotation either. Call after `validate`. O(d^2 + m^3), m the number of
+  /// coordinates R moves (rows or columns that differ from the identity's).
+  template <typename WeightsDerived>
+  void check_rotation(const Eigen::MatrixBase<WeightsDerived>& weights, const std::string& argument) const {
+    const Index d = dim();
+    check_dimension(weights.size(), d, "weights");
+    std::vector<Index> moved;
+    for (Index k = 0; k < d; ++k) {
+      bool unit = true;
+      for (Index i = 0; i < d && unit; ++i) {
+        const Scalar e = i == k ? Scalar(1) : Scalar(0);
+        unit = R(i, k) == e && R(k, i) == e;
+      }
+      if (!unit) moved.push_back(k);
+    }
+    if (moved.empty()) return;
+    const auto m = static_cast<Index>(moved.size());
+    // R is the identity outside the moved rows and columns: R's determinant
+    // and orthogonality are those of its moved block.
+    Eigen::MatrixXd Q(m, m), Qw(m, m);
+    for (Index a = 0; a < m; ++a)
+      for (Index b = 0; b < m; ++b) {
+        const auto i = moved[static_cast<std::size_t>(a)], j = moved[static_cast<std::size_t>(b)];
+        Q(a, b) = static_cast<double>(R(i, j));
+        Qw(a, b) = static_cast<double>(weights(i)) * Q(a, b) / static_cast<double>(weights(j));
+      }
+    const auto deviation = [m](const Eigen::MatrixXd& q) {
+      return (q.transpose() * q - Eigen::MatrixXd::Identity(m, m)).cwiseAbs().maxCoeff();
+    };
+    const double off = std::min(deviation(Q), deviation(Qw));
+    const double det = Q.determinant();
+    if (off <= rotation_tolerance && det > 0) return;
+    const std::string why = off <= rotation_tolerance
+                                ? "is orthogonal with det " + format_value(det) + " (a reflection)"
+                                : "is not orthogonal: the largest entry of |R^T R - I| is " + format_value(off) +
+                                      " (tolerance " + format_value(rotation_tolerance) + "; det " +
+                                      format_value(det) + ")";
+    throw InvalidArgument(argument + ".R",
+                          why + ". ICP composes its motion with this transform, so its result would not be a "
+                                "rotation either; pass a rotation (see RigidTransform)");
   }
 
   /// The same transform in another scalar type.
