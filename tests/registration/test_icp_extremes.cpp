@@ -2,8 +2,12 @@
 // Numerical stability of the N-D ICP at the extremes: large offsets, tiny and
 // huge scales, reflections, degenerate geometry, tiny clouds.
 
+#include <array>
+#include <string>
 #include <type_traits>
+#include <vector>
 
+#include "../support/errors.hpp"
 #include "icp_test_util.hpp"
 
 using namespace iclap;
@@ -110,6 +114,15 @@ TEST_CASE_TEMPLATE("a cloud too large for the scalar type is refused, not regist
   } catch (const InvalidArgument& e) {
     CHECK(e.argument() == "points");
     CHECK_MESSAGE(std::string(e.what()).find("overflow") != std::string::npos, e.what());
+  }
+  // The farthest coordinate is named, also for a cloud of your own type.
+  Eigen::MatrixXd one_far = unit;
+  one_far(2, 17) = too_large;
+  std::vector<std::array<double, 3>> records(40);
+  for (Index j = 0; j < 40; ++j) records[static_cast<std::size_t>(j)] = {one_far(0, j), one_far(1, j), one_far(2, j)};
+  for (const std::string& what : {what_of([&] { Ref r(one_far); }), what_of([&] { Ref r(records); })}) {
+    CHECK_MESSAGE(what.find("points: largest weighted distance from the centroid is ") == 0, what);
+    CHECK_MESSAGE(what.find(" (coordinate 2 of point 17), beyond ") != std::string::npos, what);
   }
   // So is a metric that stretches a cloud that far, and points the scalar
   // type cannot hold at all (double's largest values overflow the centring).

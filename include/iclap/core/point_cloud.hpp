@@ -26,6 +26,8 @@ namespace iclap {
 /// `PointCloudTraits<YourCloud>` is
 /// specialised with three static functions:
 ///
+///     struct Touch { Eigen::Vector3d position; int word; };   // your record of a touch
+///
 ///     template <> struct iclap::PointCloudTraits<std::vector<Touch>> {
 ///       static iclap::Index size(const std::vector<Touch>& c) { return static_cast<iclap::Index>(c.size()); }
 ///       static iclap::Index dimension(const std::vector<Touch>&) { return 4; }

@@ -129,12 +129,27 @@ class ReferenceCloud {
                                           ": squared distances at this scale underflow the scalar type; rescale "
                                           "the points or the weights");
     const double largest = largest_coordinate<Scalar>();
-    if (!(static_cast<double>(spread) <= largest))
+    if (!(static_cast<double>(spread) <= largest)) {
+      // Name the farthest coordinate, measured before the cast to Scalar
+      // (where a float cloud's 1e39 became inf).
+      Acc far = -1;
+      Index far_point = 0, far_coordinate = 0;
+      for (Index j = 0; j < points.cols(); ++j)
+        for (Index k = 0; k < points.rows(); ++k) {
+          const Acc v = std::abs(w(k) * (static_cast<Acc>(points(k, j)) - c(k)));
+          if (v > far) {
+            far = v;
+            far_point = j;
+            far_coordinate = k;
+          }
+        }
       throw InvalidArgument("points", "largest weighted distance from the centroid is " +
-                                          format_value(static_cast<double>(spread)) + ", beyond " +
-                                          format_value(largest) +
+                                          format_value(static_cast<double>(far)) + " (coordinate " +
+                                          std::to_string(far_coordinate) + " of point " + std::to_string(far_point) +
+                                          "), beyond " + format_value(largest) +
                                           ": squared distances at this scale overflow the scalar type; rescale "
                                           "the points or the weights");
+    }
     spread_ = static_cast<double>(spread);
     search_ = Search(std::move(work), search_settings);
   }
