@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -216,6 +217,52 @@ TEST_CASE("the recogniser fuses every classifier once per test") {
   const DistanceTable only = rec.distances(objects[0], {"icp"});
   CHECK(only.has("icp"));
   CHECK(!only.has("bow"));
+}
+
+namespace {
+// A classifier of a user's own whose distances are `value` for every object.
+struct ConstantClassifier final : Classifier {
+  explicit ConstantClassifier(double v) : value(v) {}
+  double value;
+  Index n = 0;
+  std::string name() const override { return "mine"; }
+  void fit(const std::vector<TouchSet>& objects, Index) override { n = static_cast<Index>(objects.size()); }
+  void distances(const TouchSet&, Eigen::Ref<Eigen::VectorXd> out) const override { out.setConstant(value); }
+  Index objects() const override { return n; }
+};
+}  // namespace
+
+TEST_CASE("the recogniser names the classifier whose distances are bad, and refuses an unknown name in only") {
+  const TouchTable t = synthetic_table(3);
+  KMeansQuantizer<float> q = codebook(4);
+  q.fit(t.touches.features);
+  const auto objects = per_object(t, assign_words(q, t.touches.features));
+  const auto recognizer = [&](double value, Normalization kind) {
+    std::vector<std::unique_ptr<Classifier>> cs;
+    cs.push_back(std::make_unique<BowClassifier>());
+    cs.push_back(std::make_unique<ConstantClassifier>(value));
+    Recognizer rec(std::move(cs), kind);
+    rec.fit(objects, q.size());
+    return rec;
+  };
+  CHECK(recognizer(2.0, Normalization::L2).distances(objects[0]).get("mine").norm() == doctest::Approx(1.0));
+  CHECK(test::what_of<NonFiniteValue>([&] {
+          (void)recognizer(std::numeric_limits<double>::quiet_NaN(), Normalization::L2).distances(objects[0]);
+        }).find("distances of 'mine': ") == 0);
+  for (const auto kind : {Normalization::L2, Normalization::MinMax}) {
+    CAPTURE(to_string(kind));
+    CHECK(test::what_of([&] { (void)recognizer(-1.0, kind).distances(objects[0]); })
+              .find("distances of 'mine': must be non-negative") == 0);
+  }
+  CHECK(test::what_of([&] { (void)recognizer(-1.0, Normalization::ZScore).distances(objects[0]); }) == "(no error)");
+
+  const Recognizer rec = recognizer(2.0, Normalization::L2);
+  CHECK(test::what_of([&] { (void)rec.distances(objects[0], {"bow", "icp"}); }) ==
+        "only: 'icp' is not the name of a classifier (bow, mine)");
+  CHECK(test::argument_of([&] { (void)rec.prepare_pool(objects[0], {"typo"}); }) == "only");
+  CHECK(test::argument_of([&] { (void)rec.pool_distances(objects[0], rec.prepare_pool(objects[0]), {0}, {"typo"}); }) ==
+        "only");
+  CHECK(rec.distances(objects[0], {"mine"}).has("mine"));
 }
 
 TEST_CASE("a prepared pool gives each subset the recogniser's distances of its own touches") {

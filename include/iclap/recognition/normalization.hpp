@@ -45,14 +45,14 @@ inline Normalization parse_normalization(const std::string& name) {
 
 /// Normalises `d` (one distance per object) in place. Distances must be
 /// finite and, for L2 and MinMax, non-negative (NonFiniteValue /
-/// InvalidArgument naming "distances"). Degenerate inputs are defined, never
+/// InvalidArgument naming `argument`). Degenerate inputs are defined, never
 /// NaN: all zeros (L2) or all equal (MinMax, ZScore) give all zeros, a tie
 /// of every object. O(N).
-inline void normalize(Eigen::Ref<Eigen::VectorXd> d, Normalization kind) {
-  check_finite(d, "distances");
+inline void normalize(Eigen::Ref<Eigen::VectorXd> d, Normalization kind, const std::string& argument = "distances") {
+  check_finite(d, argument);
   if (d.size() == 0) return;
   if (kind != Normalization::ZScore && d.minCoeff() < 0)
-    throw InvalidArgument("distances", "must be non-negative for " + std::string(to_string(kind)) +
+    throw InvalidArgument(argument, "must be non-negative for " + std::string(to_string(kind)) +
                                            " normalisation (got " + format_value(d.minCoeff()) + ")");
   switch (kind) {
     case Normalization::L2: {

@@ -103,6 +103,9 @@ class Recognizer {
   /// Normalised distances of every classifier (or of those named in `only`,
   /// if not empty) from `test` to every object. If `seconds` is given (one
   /// entry per classifier, in order), each classifier's time is added to it.
+  /// Throws InvalidArgument naming "only" for a name that is no classifier's,
+  /// and what `normalize` throws for a classifier's NaN, infinite or negative
+  /// distance, naming "distances of 'NAME'" (as DistanceTable::set does).
   DistanceTable distances(const TouchSet& test, const std::vector<std::string>& only = {},
                           std::vector<double>* seconds = nullptr) const {
     return table_of(only, seconds,
@@ -112,11 +115,13 @@ class Recognizer {
   /// Every classifier's `prepare_pool(pool)`, in classifier order (null for
   /// those not named in `only`, if not empty), the classifiers spread over
   /// `threads` threads (0: all cores). If `seconds` is given, each
-  /// classifier's time is added to it as in `distances`.
+  /// classifier's time is added to it as in `distances`; `only` is checked
+  /// as there.
   std::vector<std::shared_ptr<const PreparedPool>> prepare_pool(const TouchSet& pool,
                                                                 const std::vector<std::string>& only = {},
                                                                 std::vector<double>* seconds = nullptr,
                                                                 unsigned threads = 1) const {
+    check_only(only);
     std::vector<std::shared_ptr<const PreparedPool>> out(classifiers_.size());
     if (seconds) seconds->resize(classifiers_.size(), 0.0);
     detail::parallel_for(classifiers_.size(), threads, [&](std::size_t i, unsigned /*worker*/) {
@@ -150,10 +155,22 @@ class Recognizer {
     return only.empty() || std::find(only.begin(), only.end(), c.name()) != only.end();
   }
 
+  /// Throws InvalidArgument naming "only" for a name no classifier has (it
+  /// would be skipped silently, leaving its distances out of the table).
+  void check_only(const std::vector<std::string>& only) const {
+    for (const auto& name : only)
+      if (std::none_of(classifiers_.begin(), classifiers_.end(), [&](const auto& c) { return c->name() == name; })) {
+        std::string list;
+        for (const auto& c : classifiers_) list += (list.empty() ? "" : ", ") + c->name();
+        throw InvalidArgument("only", quote_text(name, 60) + " is not the name of a classifier (" + list + ")");
+      }
+  }
+
   /// The table of the wanted classifiers' distances, each computed by
   /// `compute(classifier, its index, out)`, timed and normalised.
   template <typename Compute>
   DistanceTable table_of(const std::vector<std::string>& only, std::vector<double>* seconds, Compute&& compute) const {
+    check_only(only);
     DistanceTable table;
     Eigen::VectorXd d(objects());
     if (seconds) seconds->resize(classifiers_.size(), 0.0);
@@ -163,7 +180,7 @@ class Recognizer {
       const auto start = std::chrono::steady_clock::now();
       compute(c, i, d);
       if (seconds) (*seconds)[i] += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      normalize(d, normalization_);
+      normalize(d, normalization_, "distances of '" + c.name() + "'");
       table.set(c.name(), d);
     }
     return table;
