@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -143,6 +144,33 @@ TEST_CASE("touch table: a descriptor that returns an empty feature is refused, a
   CHECK_THROWS_AS((void)make_touch_table(ds, EmptyDescriptor{}, 20.0), EmptyInput);
   CHECK(test::what_of([&] { (void)make_touch_table(ds, EmptyDescriptor{}, 20.0); }) ==
         "features: descriptor returned an empty feature for dataset.frames[0]");
+}
+
+// Found by the same audit: a double feature was cast to float before its
+// check, so 1e300 read as "non-finite value inf", and a descriptor's own
+// InvalidArgument about its "image" did not say which frame.
+TEST_CASE("touch table: what the descriptor returns or throws is refused naming the frame") {
+  struct ScaledDescriptor {  // raw pressures times `scale`; frames below 5 N refused
+    double scale;
+    Eigen::VectorXd compute(const TactileImage& image) const {
+      if (image.pressures().maxCoeff() < 50.0) throw InvalidArgument("image", "too light to describe");
+      return scale * image.pressures().reshaped();
+    }
+  };
+  const Dataset ds = wts_dataset({frame("a", 0, 0, 0.0), frame("a", 0, 1, 90.0), frame("a", 0, 2, 30.0)});
+  CHECK(test::what_of([&] { (void)make_touch_table(ds, ScaledDescriptor{1.0}, 20.0); }) ==
+        "dataset.frames[2]: too light to describe");
+  const Dataset heavy = wts_dataset({frame("a", 0, 0, 0.0), frame("a", 0, 1, 90.0), frame("a", 0, 2, 60.0)});
+  CHECK(make_touch_table(heavy, ScaledDescriptor{1e30}, 20.0).touches.features.maxCoeff() == doctest::Approx(9e31f));
+  CHECK(test::what_of([&] { (void)make_touch_table(heavy, ScaledDescriptor{1e300}, 20.0); })
+            .find("features of dataset.frames[1]: coordinate 31 is 9e+301, beyond the range of float") == 0);
+  try {
+    (void)make_touch_table(heavy, ScaledDescriptor{std::numeric_limits<double>::infinity()}, 20.0);
+    FAIL("an infinite feature was kept");
+  } catch (const NonFiniteValue& e) {
+    CHECK(e.argument() == "features");
+    CHECK(e.column() == 0);
+  }
 }
 
 TEST_CASE("touch sets: offsets start at 0, normals are unit vectors either way, one word per touch") {

@@ -169,7 +169,13 @@ inline Index append_free_points(const Frame& frame, double threshold, double pit
 /// `taxel_pitch_of`); when every
 /// contact frame has an orientation, the pad normals (`TouchSet::normals`).
 /// Throws EmptyInput naming "dataset" when no frame is a contact, and what
-/// taxel_pitch_of throws when a contact frame has an orientation.
+/// taxel_pitch_of throws when a contact frame has an orientation. What the
+/// descriptor returns is checked as extract_features checks it, naming the
+/// frame (`dataset.frames[I]`): its plain InvalidArgument about "image"
+/// names the frame instead; an empty feature is EmptyInput, a length that
+/// differs from the first frame's DimensionMismatch, a finite value beyond
+/// float's range (features are kept in float) InvalidArgument, and a NaN or
+/// infinity NonFiniteValue naming "features" (row: coordinate, column: touch).
 /// `progress` gets (frames done, frames).
 template <typename Descriptor>
 TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor,
@@ -213,20 +219,27 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
     t.object[ju] = index[f.object];
     t.exploration[ju] = f.exploration;
     t.frame[ju] = f.frame;
-    const auto feature = descriptor.compute(TactileImage(f.pressures));
+    const auto frame_name = [i = kept[ju]] { return "dataset.frames[" + std::to_string(i) + "]"; };
+    // As extract_features: the descriptor's own complaint about its "image"
+    // names the frame.
+    const auto feature = rename_argument("image", frame_name, [&] { return descriptor.compute(TactileImage(f.pressures)); });
     if (j == 0) {
       // As extract_features: an empty feature breaks the Descriptor concept,
       // and 0 x n features would read as "no features" until the codebook.
-      if (feature.size() == 0)
-        throw EmptyInput("features", "descriptor returned an empty feature for dataset.frames[" +
-                                         std::to_string(kept[ju]) + "]");
+      if (feature.size() == 0) throw EmptyInput("features", "descriptor returned an empty feature for " + frame_name());
       t.touches.features.resize(feature.size(), n);
     }
     // (A descriptor's length follows the image size, which a hand-built
     // dataset may vary: a shorter feature was cut, a longer one read past.)
-    check_dimension(feature.size(), t.touches.features.rows(),
-                    "features of dataset.frames[" + std::to_string(kept[ju]) + "]");
+    check_dimension(feature.size(), t.touches.features.rows(), "features of " + frame_name());
     t.touches.features.col(j) = feature.template cast<float>();
+    // A finite value the cast to float made infinite is a range error, not
+    // the descriptor's NaN or infinity (checked below for the whole table).
+    for (Index k = 0; k < feature.size(); ++k)
+      if (std::isfinite(static_cast<double>(feature(k))) && !std::isfinite(t.touches.features(k, j)))
+        throw InvalidArgument("features of " + frame_name(),
+                              "coordinate " + std::to_string(k) + " is " + format_value(static_cast<double>(feature(k))) +
+                                  ", beyond the range of float, in which a touch table keeps features");
     offsets.push_back(offsets.back() + append_contact_points(f, contact_threshold, pitch, contacts));
     free_offsets.push_back(free_offsets.back() + append_free_points(f, contact_threshold, pitch, free));
     if (progress && (j % 256 == 0 || j + 1 == n)) progress(static_cast<std::size_t>(j + 1), kept.size());
