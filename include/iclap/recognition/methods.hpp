@@ -85,6 +85,18 @@ inline Method with_variants(const Method& m, const std::string& classifier, cons
 
 namespace detail {
 
+/// `parts` sorted and joined by `separator` (the key of a commutative
+/// operation).
+inline std::string join_sorted(std::vector<std::string> parts, char separator) {
+  std::sort(parts.begin(), parts.end());
+  std::string out;
+  for (const auto& p : parts) {
+    if (!out.empty()) out += separator;
+    out += p;
+  }
+  return out;
+}
+
 /// The text of `f` with the terms of every sum and the factors of every
 /// product sorted, weights written exactly (method_key); `free_weights`:
 /// the weights of this sum (fitted ones) are left out.
@@ -101,10 +113,7 @@ inline std::string fusion_key(const Fusion& f, bool free_weights) {
         const std::string term = bracket ? "(" + child + ")" : child;
         terms.push_back(free_weights ? term : format_exact(f.weights()[i]) + "*" + term);
       }
-      std::sort(terms.begin(), terms.end());
-      std::string out;
-      for (const auto& t : terms) out += (out.empty() ? "" : "+") + t;
-      return out;
+      return join_sorted(std::move(terms), '+');
     }
     case Fusion::Kind::Product: {
       std::vector<std::string> factors;
@@ -112,10 +121,7 @@ inline std::string fusion_key(const Fusion& f, bool free_weights) {
         const std::string child = fusion_key(c, false);
         factors.push_back(child.find('+') != std::string::npos ? "(" + child + ")" : child);
       }
-      std::sort(factors.begin(), factors.end());
-      std::string out;
-      for (const auto& x : factors) out += (out.empty() ? "" : "*") + x;
-      return out;
+      return join_sorted(std::move(factors), '*');
     }
   }
   return {};
