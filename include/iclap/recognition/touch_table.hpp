@@ -222,7 +222,8 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
     const auto frame_name = [i = kept[ju]] { return "dataset.frames[" + std::to_string(i) + "]"; };
     // As extract_features: the descriptor's own complaint about its "image"
     // names the frame.
-    const auto feature = rename_argument("image", frame_name, [&] { return descriptor.compute(TactileImage(f.pressures)); });
+    const auto feature =
+        rename_argument("image", frame_name, [&] { return descriptor.compute(TactileImage(f.pressures)); });
     if (j == 0) {
       // As extract_features: an empty feature breaks the Descriptor concept,
       // and 0 x n features would read as "no features" until the codebook.
