@@ -222,3 +222,35 @@ TEST_CASE("sample_surface: errors name the argument") {
   CHECK_THROWS_WITH_AS(iclap::sample_surface(nan, 1e-3), doctest::Contains("mesh: vertex 3 is not finite"),
                        iclap::InvalidArgument);
 }
+
+// --- Reproducer of a defect found by helper-49's audit (session 49). Skipped
+// until sample_surface is fixed.
+
+TEST_CASE("sampling: a valid mesh with huge coordinates is sampled like its scaled-down copy" * doctest::skip()) {
+  // A right triangle of legs 1 at spacing 0.1 takes 85 points; scaling the
+  // triangle and the spacing by the same power of ten should not change
+  // that (validate_mesh accepts these meshes). Expected: 85 points, or, if
+  // such coordinates are out of scope, a refusal that says so (as
+  // place_on_table's "has a coordinate of magnitude ..., more than 1e+75").
+  // Happens: the triangle's area and height overflow, and the refusal
+  // claims "spacing: 1e+99 would take at least inf points on this mesh
+  // (surface area inf)" at 1e100 and "... at least -nan points ..." at
+  // 1e160 and beyond.
+  for (const double s : {1.0, 1e100, 1e160, 1e300}) {
+    CAPTURE(s);
+    iclap::TriangleMesh m;
+    m.vertices.resize(3, 3);
+    m.vertices << 0, s, 0, 0, 0, s, 0, 0, 0;
+    m.triangles.resize(3, 1);
+    m.triangles << 0, 1, 2;
+    std::string outcome;
+    try {
+      outcome = std::to_string(iclap::sample_surface(m, s / 10).cols()) + " points";
+    } catch (const iclap::InvalidArgument& e) {
+      outcome = e.what();
+    }
+    CHECK(outcome.find("nan") == std::string::npos);
+    CHECK(outcome.find("inf points") == std::string::npos);
+    CHECK((outcome == "85 points" || outcome.find("coordinate") != std::string::npos));
+  }
+}

@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <string>
@@ -751,4 +752,33 @@ TEST_CASE("SimFrameSource: exploration 0 is valid; real time runs from the first
   SimFrameSource short_wait(object, settings, 3, 4, SimFrameSource::Settings{true});
   REQUIRE(short_wait.next(pf, 0ms) == FrameSource::Status::kFrame);
   CHECK(short_wait.next(pf, 150ms) == FrameSource::Status::kTimeout);
+}
+
+// --- Reproducer of a defect found by helper-49's audit (session 49). Skipped
+// until SimFrameSource is fixed.
+
+TEST_CASE("SimFrameSource: real time with the longest timeout returns the next frame when it is due" *
+          doctest::skip()) {
+  // FrameSource::next documents "next() waits at most `timeout`"; with
+  // std::chrono::milliseconds::max() ("as long as it takes") the second
+  // frame of a real-time source is due 0.2 s after the first. Expected:
+  // kFrame after about 0.2 s. Happens: `due - now > timeout` converts the
+  // timeout to steady_clock's nanoseconds, which overflows (negative), so
+  // the source sleeps for the whole timeout: next() never returns. The call
+  // runs on a detached thread here so that the test fails after 5 s instead
+  // of hanging; the source is leaked on purpose in that case.
+  const iclap::SimObject object = iclap::builtin_object("scissors");
+  iclap::SimulationSettings settings;
+  settings.exploration.max_frames_mean = 12;
+  auto source = std::make_shared<SimFrameSource>(object, settings, 3, 4, SimFrameSource::Settings{true});
+  PosedFrame pf;
+  REQUIRE(source->next(pf, 0ms) == FrameSource::Status::kFrame);  // the first is due at once
+  auto done = std::make_shared<std::atomic<int>>(-1);
+  std::thread([source, done] {
+    PosedFrame second;
+    done->store(static_cast<int>(source->next(second, std::chrono::milliseconds::max())));
+  }).detach();
+  const auto give_up = std::chrono::steady_clock::now() + 5s;
+  while (done->load() < 0 && std::chrono::steady_clock::now() < give_up) std::this_thread::sleep_for(10ms);
+  CHECK(done->load() == static_cast<int>(FrameSource::Status::kFrame));
 }

@@ -526,3 +526,68 @@ TEST_CASE("WtsSensor: at a loss every intact frame comes out, then DeviceLost, w
   CHECK(st.frames == 2);
   CHECK(st.bytes_in == st.packet_bytes + st.junk_bytes);
 }
+
+// --- Reproducer of a defect found by helper-49's audit (session 49). Skipped
+// until WtsSensor is fixed.
+
+namespace {
+// A sensor whose bytes arrive 50 ms into a read: a read that waits less gets
+// nothing. Records the timeout of every read.
+class LateStream final : public ByteStream {
+ public:
+  std::size_t read(std::uint8_t* buffer, std::size_t capacity, std::chrono::milliseconds timeout) override {
+    timeouts.push_back(timeout);
+    if (timeout < 50ms) return 0;
+    const std::size_t n = std::min(capacity, incoming.size() - at);
+    std::copy_n(incoming.begin() + static_cast<std::ptrdiff_t>(at), n, buffer);
+    at += n;
+    return n;
+  }
+  void write(const std::uint8_t*, std::size_t, std::chrono::milliseconds) override {}
+  void close() noexcept override {}
+  bool is_open() const noexcept override { return true; }
+  const std::string& name() const noexcept override { return name_; }
+  Bytes incoming;
+  std::size_t at = 0;
+  std::vector<std::chrono::milliseconds> timeouts;
+
+ private:
+  std::string name_ = "late";
+};
+}  // namespace
+
+TEST_CASE("WtsSensor: the longest timeout waits (next_frame and reply_timeout of milliseconds::max())" *
+          doctest::skip()) {
+  // next_frame documents "waiting at most `timeout`", and
+  // std::chrono::milliseconds::max() is the usual way to say "wait as long
+  // as it takes". Expected: the read is given a long wait and the frame that
+  // arrives 50 ms later is returned. Happens: steady_clock::now() + timeout
+  // overflows (signed, undefined behaviour; UBSan reports it), the deadline
+  // lies in the past, the stream is read once with a timeout of 0 and
+  // next_frame returns nothing at once. Any timeout beyond about 292 years
+  // minus the clock's epoch does the same.
+  {
+    LateStream s;
+    s.incoming = encode_frame(numbered_frame(7));
+    WtsSensor sensor(s, grid_2x3());
+    const auto f = sensor.next_frame(std::chrono::milliseconds::max());
+    REQUIRE_FALSE(s.timeouts.empty());
+    CHECK(s.timeouts.front().count() >= 50);
+    CHECK(f.has_value());
+    if (f) CHECK(f->timestamp_ms == 7);
+  }
+  // Settings::reply_timeout = max: request() throws WtsTimeout "no reply to
+  // 'get matrix info' after 3 attempt(s) of 9223372036854775807 ms" without
+  // reading the stream once. Expected: the reply is read and returned.
+  {
+    LateStream s;
+    s.incoming = encode_reply(Reply{wts_id::kGetMatrixInfo, 0, encode_matrix_info_payload(MatrixInfo{3, 2, 340, 340, 4095})});
+    WtsSensor::Settings st;
+    st.reply_timeout = std::chrono::milliseconds::max();
+    WtsSensor sensor(s, st);
+    MatrixInfo info;
+    CHECK_NOTHROW(info = sensor.query_matrix_info());
+    CHECK(info.grid() == Grid{2, 3});
+    CHECK_FALSE(s.timeouts.empty());
+  }
+}
