@@ -337,11 +337,10 @@ TEST_CASE("mesh io: PLY float vertex indices out of range or fractional are show
   CHECK(ply_outcome(bin).find("vertex index 9.22337e+18 is out of range (3 vertices)") != std::string::npos);
 }
 
-// --- Reproducers of defects found by helper-49's audit (session 49). Skipped
-// until the loaders are fixed; each says what is expected and what happens.
+// --- Reproducers of defects found by helper-40's audit (session 49), fixed in the same
+// session. "Happens" is what the library did before the fix.
 
-TEST_CASE("mesh io: a binary PLY with data after its last element is refused, like ascii PLY and binary STL" *
-          doctest::skip()) {
+TEST_CASE("mesh io: a binary PLY with data after its last element is refused, like ascii PLY and binary STL") {
   // The tetrahedron of kTetBody, but the header declares 3 faces while the
   // body holds 4 (an exporter's count off by one, or two files run
   // together). Expected: a ParseError (ascii PLY says "extra data after the
@@ -369,8 +368,7 @@ TEST_CASE("mesh io: a binary PLY with data after its last element is refused, li
   CHECK(ply_outcome(ascii_head + kTetBody) == "17: extra data after the last element");
 }
 
-TEST_CASE("mesh io: an ASCII STL starting with a UTF-8 byte-order mark loads like the same OBJ does" *
-          doctest::skip()) {
+TEST_CASE("mesh io: an ASCII STL starting with a UTF-8 byte-order mark loads like the same OBJ does") {
   // load_obj skips a UTF-8 BOM (Windows editors write one). Expected: load_stl
   // does too (or refuses naming the BOM). Happens: the file is taken for a
   // binary STL: "byte offset 80: binary STL announces 1818521189 triangles
@@ -388,7 +386,7 @@ TEST_CASE("mesh io: an ASCII STL starting with a UTF-8 byte-order mark loads lik
   CHECK(outcome.find("no 'solid'") == std::string::npos);
 }
 
-TEST_CASE("mesh io: an OBJ vertex line with a word after x y z is malformed, not silently cut" * doctest::skip()) {
+TEST_CASE("mesh io: an OBJ vertex line with a word after x y z is malformed, not silently cut") {
   // load_obj documents that a w or vertex colour after x y z is ignored, and
   // io_common.hpp's rule is that a line with more than its syntax allows is
   // malformed. Expected: ParseError at line 1 for 'junk'. Happens: accepted.

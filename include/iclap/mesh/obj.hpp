@@ -40,7 +40,17 @@ inline TriangleMesh parse_obj(std::string_view text, const std::string& name) {
                            "vertex coordinate " + show_token(tok) + " is not a finite number");
         v.push_back(x);
       }
-      // An optional w or vertex colour follows; ignored.
+      // An optional w or vertex colour (r g b, or w r g b) follows; ignored,
+      // but it must be numbers (a CR-only file is one long 'v' line).
+      for (int k = 0; k < 4; ++k) {
+        const std::string_view tok = next_token(rest);
+        if (tok.empty()) break;
+        double ignored = 0;
+        if (!token_to_double(tok, ignored))
+          throw ParseError(name, lines.line_number(),
+                           "unexpected " + show_token(tok) + " after the vertex's x y z (only a w or a colour may follow)");
+      }
+      expect_line_end(rest, name, lines.line_number(), "the vertex's x y z and up to 4 more numbers (w, colour)");
     } else if (key == "f") {
       poly.clear();
       const std::int64_t defined = static_cast<std::int64_t>(v.size() / 3);
@@ -88,7 +98,8 @@ inline TriangleMesh parse_obj(std::string_view text, const std::string& name) {
 }  // namespace detail
 
 /// Loads the geometry of a Wavefront OBJ from `in` (`name` for errors): `v`
-/// lines (x y z; a w or colour after them is ignored) and `f` lines (`v`,
+/// lines (x y z; up to 4 numbers after them, a w or a colour, are ignored)
+/// and `f` lines (`v`,
 /// `v/vt`, `v//vn` or `v/vt/vn`: the first index is used; negative indices
 /// count back from the last vertex defined; polygons are fan-triangulated).
 /// Every other statement (vt, vn, mtllib, usemtl, o, g, s, l, comments) is

@@ -152,6 +152,8 @@ class PlyValueReader {
     return true;
   }
 
+  bool at_end() const noexcept { return pos_ == data_.size(); }
+
   bool ascii() const noexcept { return format_ == PlyFormat::ascii; }
 
   [[noreturn]] void fail(const std::string& reason) const { fail_at(pos_, reason); }
@@ -388,7 +390,10 @@ inline PlyContent parse_ply(std::string_view data, const std::string& name, bool
       reader.end_item(where);
     }
   }
-  if (reader.ascii() && !reader.at_end_or_blank()) reader.fail("extra data after the last element");
+  // (Binary: any byte left is data the header does not declare, as in
+  // binary STL; an undercounted element would otherwise be cut silently.)
+  if (reader.ascii() ? !reader.at_end_or_blank() : !reader.at_end())
+    reader.fail("extra data after the last element");
   out.triangles = Eigen::Map<const Eigen::Matrix3Xi>(tri.data(), 3, static_cast<Index>(tri.size() / 3));
   return out;
 }
@@ -405,7 +410,8 @@ inline PlyContent parse_ply(std::string_view data, const std::string& name, bool
 /// ParseError(name, 0, "byte offset N: reason") for binary bodies; nothing
 /// partial is returned. Element counts the rest of the file cannot hold are
 /// refused (at their header line) before anything is allocated; a binary
-/// element without properties takes no bytes.
+/// element without properties takes no bytes. Data after the last element
+/// is refused (in ascii, blank text is allowed).
 inline PlyContent read_ply(std::istream& in, const std::string& name) {
   return detail::parse_ply(detail::read_all(in, name), name, true);
 }

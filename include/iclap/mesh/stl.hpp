@@ -213,9 +213,12 @@ inline TriangleMesh parse_stl(std::string_view data, const std::string& name) {
   const bool size_fits = data.size() >= 84 &&
                          data.size() == 84 + std::uint64_t{50} * read_le_u32(reinterpret_cast<const unsigned char*>(data.data()) + 80);
   if (size_fits && !looks_like_ascii_stl(data)) return parse_stl_binary(data, name);
+  // ASCII, after a UTF-8 byte-order mark if an editor wrote one (as load_obj).
+  std::string_view text = data;
+  if (starts_with(text, "\xEF\xBB\xBF")) text.remove_prefix(3);
   std::size_t i = 0;
-  while (i < data.size() && is_space(data[i])) ++i;
-  if (starts_with(data.substr(i), "solid")) return parse_stl_ascii(data, name);
+  while (i < text.size() && is_space(text[i])) ++i;
+  if (starts_with(text.substr(i), "solid")) return parse_stl_ascii(text, name);
   if (data.size() < 84)
     throw ParseError(name, 0, "not an STL file: " + std::to_string(data.size()) +
                                   " bytes, too short for binary STL and no 'solid' keyword");
@@ -232,7 +235,7 @@ inline TriangleMesh parse_stl(std::string_view data, const std::string& name) {
 /// told by size, not by the first bytes: a file whose size is 84 + 50 x (the
 /// triangle count at byte 80) is binary even when its header starts with
 /// "solid" (as many CAD exporters write), unless it is plain text with STL
-/// keywords. Bit-identical corners are merged into shared vertices; facet
+/// keywords. An ASCII file may start with a UTF-8 byte-order mark. Bit-identical corners are merged into shared vertices; facet
 /// normals in the file are ignored (winding order defines the normal).
 /// Throws ParseError(name, line, reason) for ASCII errors and ParseError(name,
 /// 0, "byte offset N: ...") for binary ones; nothing partial is returned.
