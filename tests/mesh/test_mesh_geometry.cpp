@@ -11,6 +11,7 @@
 
 #include "iclap/core/random.hpp"
 #include "iclap/mesh/mesh.hpp"
+#include "../support/errors.hpp"
 #include "../support/zero_area_mesh.hpp"
 
 namespace {
@@ -431,7 +432,7 @@ TEST_CASE("convex hull and placement at extreme scales: exact hull, clear refusa
   iclap::TriangleMesh big = box;
   big.vertices *= 1e103;
   CHECK_THROWS_WITH_AS(iclap::place_on_table(big),
-                       "mesh: has a coordinate of magnitude 5e+101, more than 1e+75 (scale it down)",
+                       doctest::Contains("mesh: has a coordinate of magnitude 5e+101, more than 1e+75 (vertex "),
                        iclap::InvalidArgument);
   big.vertices = box.vertices * 1e70;
   const auto p = iclap::place_on_table(big);
@@ -440,10 +441,10 @@ TEST_CASE("convex hull and placement at extreme scales: exact hull, clear refusa
   CHECK(iclap::mesh_bounds(p.mesh).sizes().isApprox(Eigen::Vector3d(0.1, 0.05, 0.02) * 1e70, 1e-12));
 }
 
-// --- Reproducers of defects found by helper-49's audit (session 49). Skipped
-// until the library is fixed; each says what is expected and what happens.
+// --- Reproducers of defects found by helper-40's audit (session 49), fixed in the same
+// session. "Happens" is what the library did before the fix.
 
-TEST_CASE("mesh geometry: place_on_table names the mesh when it is flat" * doctest::skip()) {
+TEST_CASE("mesh geometry: place_on_table names the mesh when it is flat") {
   // place_on_table documents "InvalidArgument if the mesh is flat (spans no
   // volume)". Expected: argument() == "mesh", as for its other refusals.
   // Happens: argument() == "points", convex_hull's parameter, which the
@@ -471,17 +472,14 @@ TEST_CASE("mesh geometry: place_on_table names the mesh when it is flat" * docte
   }
 }
 
-TEST_CASE("mesh geometry: MeshBvh::closest_point answers a triangle of the mesh for any finite query" *
-          doctest::skip()) {
-  // closest_point documents "the surface point closest to p" and refuses
-  // only a non-finite p. Expected: for a finite query far away, a triangle
-  // of the mesh (here the only one, 0) and a point on it. Happens: when the
-  // squared distance overflows (|p| beyond about 1e154) no triangle beats
-  // the initial infinity: triangle == -1 (an index a caller would use),
-  // point (0, 0, 0) uninitialised-looking, squared_distance inf. The same
-  // happens for a mesh whose coordinates are that large (validate_mesh
-  // accepts them), e.g. the triangle (0,0,0), (1e300,0,0), (0,1e300,0) and
-  // a query 5 above its inside.
+TEST_CASE("mesh geometry: MeshBvh::closest_point answers a triangle of the mesh for every query it takes") {
+  // closest_point refused only a non-finite p. For a finite query far away
+  // (|p| beyond about 1e154) the squared distance overflowed, no triangle
+  // beat the initial infinity, and it answered triangle -1, point (0, 0, 0),
+  // squared distance inf. The same for a mesh with coordinates near 1e300
+  // (which validate_mesh accepts). Now the range is checked: meshes within
+  // kMaxMeshCoordinate, queries within kMaxQueryCoordinate, both at their
+  // limits answered exactly.
   iclap::TriangleMesh m;
   m.vertices.resize(3, 3);
   m.vertices << 1, 2, 1, 1, 1, 2, 1, 1, 1;
@@ -489,8 +487,32 @@ TEST_CASE("mesh geometry: MeshBvh::closest_point answers a triangle of the mesh 
   m.triangles << 0, 1, 2;
   const iclap::MeshBvh bvh(m);
   const auto near = bvh.closest_point(Eigen::Vector3d(1.2, 1.2, 5));
-  CHECK(near.triangle == 0);  // holds
-  const auto far = bvh.closest_point(Eigen::Vector3d(1e300, 1e300, 1e300));
+  CHECK(near.triangle == 0);
+  const double q = iclap::MeshBvh::kMaxQueryCoordinate;
+  CHECK(bvh.closest_point(Eigen::Vector3d(1e6, 1e6, 1e6)).point.isApprox(Eigen::Vector3d(1.5, 1.5, 1), 1e-9));
+  // From the farthest query the rounding of its coordinates (1e77 x 1e-16)
+  // dwarfs the triangle: the answer is a point of the triangle, no more.
+  const auto far = bvh.closest_point(Eigen::Vector3d(q, q, q));
   CHECK(far.triangle == 0);
-  CHECK(far.point.isApprox(Eigen::Vector3d(1.5, 1.5, 1)));
+  CHECK(far.point.z() == doctest::Approx(1.0));
+  CHECK(far.point.x() >= 1.0 - 1e-12);
+  CHECK(far.point.y() >= 1.0 - 1e-12);
+  CHECK(far.point.x() + far.point.y() <= 3.0 + 1e-12);
+  CHECK(std::isfinite(far.squared_distance));
+  CHECK_THROWS_WITH_AS(bvh.closest_point(Eigen::Vector3d(1e300, 1e300, 1e300)),
+                       "p: coordinate 0 is 1e+300, beyond +-1e+77, where squared distances overflow",
+                       iclap::InvalidArgument);
+  // The largest mesh it takes, queried from the largest distance.
+  iclap::TriangleMesh huge = m;
+  huge.vertices *= iclap::kMaxMeshCoordinate / 2;
+  const iclap::MeshBvh big(huge);
+  const auto from_far = big.closest_point(Eigen::Vector3d(-q, -q, q));
+  CHECK(from_far.triangle == 0);
+  CHECK(from_far.point.isApprox(huge.vertices.col(0)));
+  CHECK(std::isfinite(from_far.squared_distance));
+  const auto hit = big.intersect(Eigen::Vector3d(1.2, 1.2, 5) * iclap::kMaxMeshCoordinate / 2, -Eigen::Vector3d::UnitZ());
+  REQUIRE(hit.has_value());
+  CHECK(hit->t == doctest::Approx(2 * iclap::kMaxMeshCoordinate));
+  huge.vertices *= 1e200;
+  CHECK(iclap::test::argument_of([&] { iclap::MeshBvh b(huge); }) == "mesh");
 }

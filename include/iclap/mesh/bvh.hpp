@@ -51,9 +51,15 @@ struct ClosestPoint {
 /// thread-safe, and copies share the tree (cheap).
 class MeshBvh {
  public:
-  /// Builds the tree; throws like validate_mesh for an invalid mesh.
+  /// The largest query coordinate magnitude closest_point takes: with mesh
+  /// coordinates within kMaxMeshCoordinate (1e75), its dot products of
+  /// offsets and edges stay below 1e153 and their products finite.
+  static constexpr double kMaxQueryCoordinate = 1e77;
+
+  /// Builds the tree; throws like validate_mesh and check_mesh_range.
   explicit MeshBvh(TriangleMesh mesh) {
     validate_mesh(mesh);
+    check_mesh_range(mesh);
     auto data = std::make_shared<Data>();
     data->mesh = std::move(mesh);
     build(*data);
@@ -114,10 +120,17 @@ class MeshBvh {
   }
 
   /// The surface point closest to `p` (ties: smaller triangle index).
-  /// Throws NonFiniteValue naming "p" for a NaN or infinite coordinate.
+  /// Throws NonFiniteValue naming "p" for a NaN or infinite coordinate and
+  /// InvalidArgument naming "p" for one beyond +-kMaxQueryCoordinate, whose
+  /// squared distances would overflow (no triangle would be found).
   ClosestPoint closest_point(const Eigen::Vector3d& p) const {
-    for (Index k = 0; k < 3; ++k)
+    for (Index k = 0; k < 3; ++k) {
       if (!std::isfinite(p[k])) throw NonFiniteValue("p", k, 0, p[k]);
+      if (!(std::abs(p[k]) <= kMaxQueryCoordinate))
+        throw InvalidArgument("p", "coordinate " + std::to_string(k) + " is " + format_value(p[k]) +
+                                       ", beyond +-" + format_value(kMaxQueryCoordinate) +
+                                       ", where squared distances overflow");
+    }
     const Data& d = *data_;
     ClosestPoint best;
     best.squared_distance = std::numeric_limits<double>::infinity();

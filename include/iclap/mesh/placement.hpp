@@ -122,6 +122,7 @@ inline TablePlacement place_on_table(const TriangleMesh& mesh, const TablePlacem
   if (!(settings.face_merge_angle >= 0 && settings.face_merge_angle <= 3.14159265358979323846 / 2))
     throw InvalidArgument("settings.face_merge_angle",
                           "must be in [0, pi/2] radians, got " + format_value(settings.face_merge_angle));
+  check_mesh_range(mesh);
   // Only vertices that triangles use (some CAD files carry unused ones).
   std::vector<char> used(static_cast<std::size_t>(mesh.vertex_count()), 0);
   for (Index t = 0; t < mesh.triangle_count(); ++t)
@@ -129,12 +130,8 @@ inline TablePlacement place_on_table(const TriangleMesh& mesh, const TablePlacem
   Eigen::Matrix3Xd pts(3, std::count(used.begin(), used.end(), 1));
   for (Index v = 0, j = 0; v < mesh.vertex_count(); ++v)
     if (used[static_cast<std::size_t>(v)]) pts.col(j++) = mesh.vertices.col(v);
-  // Areas square and volumes cube the coordinates: beyond this they overflow.
-  constexpr double kMaxCoordinate = 1e75;
-  if (const double big = pts.cwiseAbs().maxCoeff(); !(big <= kMaxCoordinate))
-    throw InvalidArgument("mesh", "has a coordinate of magnitude " + format_value(big) + ", more than " +
-                                      format_value(kMaxCoordinate) + " (scale it down)");
-  const TriangleMesh hull = convex_hull(pts);
+  // convex_hull's refusal of a flat point set ("points") is the mesh's.
+  const TriangleMesh hull = rename_argument("points", "mesh", [&] { return convex_hull(pts); });
   const Eigen::Vector3d com = mass_centroid(mesh);
 
   // Group hull triangles into faces, largest triangles first.

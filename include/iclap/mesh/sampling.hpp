@@ -85,13 +85,14 @@ inline double row_intervals(const SampledTriangle& s, double k, double spacing) 
 /// sampled along their longest edge (a point for a triangle whose corners
 /// coincide).
 ///
-/// Throws what validate_mesh throws (naming "mesh"), InvalidArgument
-/// naming "spacing" unless it is finite and > 0, and InvalidArgument naming
+/// Throws what validate_mesh and check_mesh_range throw (naming "mesh"),
+/// InvalidArgument naming "spacing" unless it is finite and > 0, and InvalidArgument naming
 /// "spacing" with the number of points it would take when that is more than
 /// kMaxSurfaceSamples (a spacing given in the wrong unit, or too fine for
 /// the mesh's size). O(triangles + points).
 inline Eigen::Matrix3Xd sample_surface(const TriangleMesh& mesh, double spacing) {
   validate_mesh(mesh, "mesh");
+  check_mesh_range(mesh, "mesh");
   check_positive(spacing, "spacing");
   const auto too_many = [&](double count, const char* how) {
     throw InvalidArgument("spacing", format_value(spacing) + " would take " + how + format_value(count) +

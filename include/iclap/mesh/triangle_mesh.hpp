@@ -63,6 +63,26 @@ inline void validate_mesh(const TriangleMesh& mesh, const std::string& argument 
                                         " triangles has zero area (no surface)");
 }
 
+/// The largest vertex coordinate magnitude the geometry functions take
+/// (place_on_table, MeshBvh, sample_surface): areas square and volumes cube
+/// the coordinates, and beyond this they overflow a double.
+inline constexpr double kMaxMeshCoordinate = 1e75;
+
+/// Throws InvalidArgument naming `argument` when a vertex that a triangle
+/// uses has a coordinate beyond +-kMaxMeshCoordinate (the value and the
+/// vertex named). Call after validate_mesh. O(size).
+inline void check_mesh_range(const TriangleMesh& mesh, const std::string& argument = "mesh") {
+  for (Index t = 0; t < mesh.triangles.cols(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.triangles(k, t);
+      const double big = mesh.vertices.col(v).cwiseAbs().maxCoeff();
+      if (!(big <= kMaxMeshCoordinate))
+        throw InvalidArgument(argument, "has a coordinate of magnitude " + format_value(big) + ", more than " +
+                                            format_value(kMaxMeshCoordinate) + " (vertex " + std::to_string(v) +
+                                            "; scale it down)");
+    }
+}
+
 /// Axis-aligned bounds of the vertices that triangles use.
 inline Eigen::AlignedBox3d mesh_bounds(const TriangleMesh& mesh) {
   Eigen::AlignedBox3d box;
