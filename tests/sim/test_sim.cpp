@@ -1311,10 +1311,10 @@ TEST_CASE("exploration: the pad follows the surface down by at most follow_drop;
   CHECK(on_slab > 100);
 }
 
-// --- Reproducers of defects found by helper-49's audit (session 49). Skipped
-// until the simulator is fixed; each says what is expected and what happens.
+// --- Reproducers of defects found by helper-40's audit (session 49), fixed in the same
+// session. "Happens" is what the library did before the fix.
 
-TEST_CASE("simulator: simulate_dataset refuses an object with an empty name, as documented" * doctest::skip()) {
+TEST_CASE("simulator: simulate_dataset refuses an object with an empty name, as documented") {
   // simulate_dataset documents "Throws InvalidArgument for empty or
   // duplicate object names"; SimObject is a plain struct, so a caller can
   // build one without make_sim_object's name check. Expected:
@@ -1332,8 +1332,7 @@ TEST_CASE("simulator: simulate_dataset refuses an object with an empty name, as 
   }
 }
 
-TEST_CASE("simulator: a position resolution that passes ArmSettings::validate gives finite positions" *
-          doctest::skip()) {
+TEST_CASE("simulator: a position resolution that passes ArmSettings::validate gives finite positions") {
   // ArmSettings::validate accepts any finite resolution >= 0. Expected: the
   // reported positions are finite multiples of it (or validate refuses a
   // resolution too fine to divide a position by). Happens: with a subnormal

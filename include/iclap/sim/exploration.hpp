@@ -35,9 +35,14 @@ struct ArmSettings {
   /// Standard deviation of the reported orientation's error, rad.
   double orientation_noise = 0.3 * 3.14159265358979323846 / 180.0;
 
-  /// Throws InvalidArgument naming the first setting that is not finite and >= 0.
+  /// Throws InvalidArgument naming the first setting that is not finite and
+  /// >= 0, or a position resolution finer than 1e-12 m but not 0: positions
+  /// are divided by it, and a subnormal one made every position infinite.
   void validate() const {
     check_non_negative(position_resolution, "arm.position_resolution");
+    if (position_resolution > 0 && position_resolution < 1e-12)
+      throw InvalidArgument("arm.position_resolution", "must be 0 (no quantisation) or at least 1e-12 m, got " +
+                                                           format_value(position_resolution));
     check_non_negative(position_noise, "arm.position_noise");
     check_non_negative(orientation_noise, "arm.orientation_noise");
   }

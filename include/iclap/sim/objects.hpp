@@ -39,9 +39,17 @@ struct SimObject {
 /// by place_on_table; without it, it is only centred (for meshes built lying
 /// on the table). Inside-out meshes are flipped. Throws InvalidArgument for
 /// a name the CSV cannot hold or an invalid mesh.
+namespace detail {
+/// Throws InvalidArgument naming `argument` when `name` cannot be an object
+/// name in the dataset CSV (object_name_problem).
+inline void check_sim_object_name(const std::string& name, const std::string& argument) {
+  const std::string problem = object_name_problem(name);
+  if (!problem.empty()) throw InvalidArgument(argument, "object name '" + name + "' " + problem);
+}
+}  // namespace detail
+
 inline SimObject make_sim_object(std::string name, TriangleMesh mesh_m, bool place = true) {
-  const std::string problem = detail::object_name_problem(name);
-  if (!problem.empty()) throw InvalidArgument("name", "object name '" + name + "' " + problem);
+  detail::check_sim_object_name(name, "name");
   validate_mesh(mesh_m, "mesh of '" + name + "'");
   orient_outward(mesh_m);
   TablePlacement placed = place ? place_on_table(mesh_m) : center_on_table(std::move(mesh_m));
