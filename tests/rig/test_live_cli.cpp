@@ -754,11 +754,10 @@ TEST_CASE("SimFrameSource: exploration 0 is valid; real time runs from the first
   CHECK(short_wait.next(pf, 150ms) == FrameSource::Status::kTimeout);
 }
 
-// --- Reproducer of a defect found by helper-49's audit (session 49). Skipped
-// until SimFrameSource is fixed.
+// --- Reproducer of a defect found by helper-40's audit (session 49), fixed in the same
+// session. "Happens" is what the library did before the fix.
 
-TEST_CASE("SimFrameSource: real time with the longest timeout returns the next frame when it is due" *
-          doctest::skip()) {
+TEST_CASE("SimFrameSource: real time with the longest timeout returns the next frame when it is due") {
   // FrameSource::next documents "next() waits at most `timeout`"; with
   // std::chrono::milliseconds::max() ("as long as it takes") the second
   // frame of a real-time source is due 0.2 s after the first. Expected:

@@ -25,6 +25,19 @@ class DeviceLost : public TransportError {
   using TransportError::TransportError;
 };
 
+/// steady_clock::now() + `timeout`, saturated: a timeout of
+/// milliseconds::max() (the usual "as long as it takes") overflowed the sum,
+/// undefined behaviour that gave a deadline in the past, so nothing waited.
+/// A negative timeout is now. For deadlines of waits.
+inline std::chrono::steady_clock::time_point deadline_after(std::chrono::milliseconds timeout) {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point now = Clock::now();
+  if (timeout <= std::chrono::milliseconds::zero()) return now;
+  if (timeout >= std::chrono::duration_cast<std::chrono::milliseconds>(Clock::time_point::max() - now))
+    return Clock::time_point::max();
+  return now + std::chrono::duration_cast<Clock::duration>(timeout);
+}
+
 /// A bidirectional byte stream to a device: the one interface the protocol
 /// code talks to, implemented by SerialPort (serial_port.hpp), HidByteStream
 /// (hid_device.hpp) and test doubles.

@@ -116,7 +116,7 @@ class SerialPort final : public ByteStream {
 
   void write(const std::uint8_t* data, std::size_t size, std::chrono::milliseconds timeout) override {
     require_open();
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    const auto deadline = deadline_after(timeout);
     std::size_t done = 0;
     while (done < size) {
       const ssize_t n = ::write(fd_, data + done, size - done);

@@ -61,7 +61,10 @@ class SimFrameSource final : public FrameSource {
                                     std::chrono::duration<double>(*f.time - first_time()));
       const auto now = std::chrono::steady_clock::now();
       if (due > now) {
-        if (due - now > timeout) {
+        // (Compared in milliseconds, rounded up: the timeout in the clock's
+        // nanoseconds overflowed for milliseconds::max(), which then slept
+        // for the whole timeout.)
+        if (std::chrono::ceil<std::chrono::milliseconds>(due - now) > timeout) {
           std::this_thread::sleep_for(timeout);
           return Status::kTimeout;
         }

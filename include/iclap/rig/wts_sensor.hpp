@@ -97,7 +97,7 @@ class WtsSensor {
     for (int attempt = 0; attempt < settings_.attempts; ++attempt) {
       throw_if_lost();
       stream_.write(command.data(), command.size(), settings_.reply_timeout);
-      const auto deadline = std::chrono::steady_clock::now() + settings_.reply_timeout;
+      const auto deadline = deadline_after(settings_.reply_timeout);
       for (;;) {
         while (auto m = parser_.next()) {
           if (auto* f = std::get_if<TactileFrame>(&*m)) {
@@ -171,7 +171,7 @@ class WtsSensor {
   /// Throws DeviceLost once every frame received before a loss has been
   /// returned.
   std::optional<TactileFrame> next_frame(std::chrono::milliseconds timeout) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    const auto deadline = deadline_after(timeout);
     for (bool read_once = false;; read_once = true) {
       while (queue_.empty()) {
         auto m = parser_.next();
