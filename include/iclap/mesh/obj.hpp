@@ -48,7 +48,9 @@ inline TriangleMesh parse_obj(std::string_view text, const std::string& name) {
         double ignored = 0;
         if (!token_to_double(tok, ignored))
           throw ParseError(name, lines.line_number(),
-                           "unexpected " + show_token(tok) + " after the vertex's x y z (only a w or a colour may follow)");
+                           "unexpected " + show_token(tok) +
+                               " after the vertex's x y z (only a w or a colour may follow; a file with "
+                               "CR-only line breaks reads as one line)");
       }
       expect_line_end(rest, name, lines.line_number(), "the vertex's x y z and up to 4 more numbers (w, colour)");
     } else if (key == "f") {
@@ -99,13 +101,13 @@ inline TriangleMesh parse_obj(std::string_view text, const std::string& name) {
 
 /// Loads the geometry of a Wavefront OBJ from `in` (`name` for errors): `v`
 /// lines (x y z; up to 4 numbers after them, a w or a colour, are ignored)
-/// and `f` lines (`v`,
-/// `v/vt`, `v//vn` or `v/vt/vn`: the first index is used; negative indices
-/// count back from the last vertex defined; polygons are fan-triangulated).
-/// Every other statement (vt, vn, mtllib, usemtl, o, g, s, l, comments) is
-/// ignored. Coordinates stay in file units. Throws ParseError(name, line,
-/// reason) for a malformed number, an index out of range or a face with
-/// fewer than 3 vertices, and ParseError(name, 0, ...) for a file without
+/// and `f` lines (`v`, `v/vt`, `v//vn` or `v/vt/vn`: the first index is
+/// used; negative indices count back from the last vertex defined; polygons
+/// are fan-triangulated). Every other statement (vt, vn, mtllib, usemtl, o,
+/// g, s, l, comments) is ignored; a UTF-8 byte-order mark is skipped.
+/// Coordinates stay in file units. Throws ParseError(name, line, reason) for
+/// a malformed number, anything else on a `v` line, an index out of range or
+/// a face with fewer than 3 vertices, and ParseError(name, 0, ...) for a file without
 /// faces; nothing partial is returned. O(file size).
 inline TriangleMesh load_obj(std::istream& in, const std::string& name) {
   return detail::parse_obj(detail::read_all(in, name), name);

@@ -86,10 +86,10 @@ inline double row_intervals(const SampledTriangle& s, double k, double spacing) 
 /// coincide).
 ///
 /// Throws what validate_mesh and check_mesh_range throw (naming "mesh"),
-/// InvalidArgument naming "spacing" unless it is finite and > 0, and InvalidArgument naming
-/// "spacing" with the number of points it would take when that is more than
-/// kMaxSurfaceSamples (a spacing given in the wrong unit, or too fine for
-/// the mesh's size). O(triangles + points).
+/// InvalidArgument naming "spacing" unless it is finite and > 0, and
+/// InvalidArgument naming "spacing" with the number of points it would take
+/// when that is more than kMaxSurfaceSamples (a spacing given in the wrong
+/// unit, or too fine for the mesh's size). O(triangles + points).
 inline Eigen::Matrix3Xd sample_surface(const TriangleMesh& mesh, double spacing) {
   validate_mesh(mesh, "mesh");
   check_mesh_range(mesh, "mesh");

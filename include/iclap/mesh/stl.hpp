@@ -235,7 +235,8 @@ inline TriangleMesh parse_stl(std::string_view data, const std::string& name) {
 /// told by size, not by the first bytes: a file whose size is 84 + 50 x (the
 /// triangle count at byte 80) is binary even when its header starts with
 /// "solid" (as many CAD exporters write), unless it is plain text with STL
-/// keywords. An ASCII file may start with a UTF-8 byte-order mark. Bit-identical corners are merged into shared vertices; facet
+/// keywords. An ASCII file may start with a UTF-8 byte-order mark.
+/// Bit-identical corners are merged into shared vertices; facet
 /// normals in the file are ignored (winding order defines the normal).
 /// Throws ParseError(name, line, reason) for ASCII errors and ParseError(name,
 /// 0, "byte offset N: ...") for binary ones; nothing partial is returned.

@@ -99,7 +99,8 @@ inline std::vector<std::string> simulation_comments(const std::vector<SimObject>
 /// settings and seed give identical data whatever the thread count.
 /// `progress` counts finished explorations (called from worker threads).
 /// Throws InvalidArgument for an object name the CSV cannot hold (empty,
-/// a comma, ...: as make_sim_object), duplicate names or bad settings. With the defaults and the 20 built-in objects: about 8,500
+/// a comma, ...: as make_sim_object), duplicate names or bad settings.
+/// With the defaults and the 20 built-in objects: about 8,500
 /// frames (the paper collected 8,492).
 inline Dataset simulate_dataset(const std::vector<SimObject>& objects, const SimulationSettings& settings,
                                 std::uint64_t seed, const ProgressCallback& progress = {}) {
