@@ -38,6 +38,16 @@ iclap::TriangleMesh test_object(iclap::Rng& rng) {
   return m;
 }
 
+// The mesh of one triangle a, b, c.
+iclap::TriangleMesh one_triangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  iclap::TriangleMesh m;
+  m.vertices.resize(3, 3);
+  m.vertices << a, b, c;
+  m.triangles.resize(3, 1);
+  m.triangles << 0, 1, 2;
+  return m;
+}
+
 std::optional<iclap::RayHit> brute_ray(const iclap::TriangleMesh& m, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
                                        iclap::RaySide side) {
   std::optional<iclap::RayHit> best;
@@ -395,12 +405,7 @@ TEST_CASE("placement: face_merge_angle must be in [0, pi/2]") {
 }
 
 TEST_CASE("bvh: closest_point of a non-finite query throws NonFiniteValue naming it") {
-  iclap::TriangleMesh m;
-  m.vertices.resize(3, 3);
-  m.vertices << 0, 1, 0, 0, 0, 1, 0, 0, 0;
-  m.triangles.resize(3, 1);
-  m.triangles << 0, 1, 2;
-  const iclap::MeshBvh bvh(m);
+  const iclap::MeshBvh bvh(one_triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
   try {
     bvh.closest_point(Eigen::Vector3d(0, std::nan(""), 0));
     FAIL("accepted");
@@ -451,11 +456,7 @@ TEST_CASE("mesh geometry: place_on_table names the mesh when it is flat") {
   // caller never passed ("points: a 3-D convex hull needs at least 4 points,
   // got 3"; "points: all points lie on a plane (no volume)"). make_sim_object
   // passes it on unchanged.
-  iclap::TriangleMesh one;
-  one.vertices.resize(3, 3);
-  one.vertices << 0, 1, 0, 0, 0, 1, 0, 0, 0;
-  one.triangles.resize(3, 1);
-  one.triangles << 0, 1, 2;
+  iclap::TriangleMesh one = one_triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
   iclap::TriangleMesh square;
   square.vertices.resize(3, 4);
   square.vertices << 0, 1, 1, 0, 0, 0, 1, 1, 0, 0, 0, 0;
@@ -478,13 +479,9 @@ TEST_CASE("mesh geometry: MeshBvh::closest_point answers a triangle of the mesh 
   // beat the initial infinity, and it answered triangle -1, point (0, 0, 0),
   // squared distance inf. The same for a mesh with coordinates near 1e300
   // (which validate_mesh accepts). Now the range is checked: meshes within
-  // kMaxMeshCoordinate, queries within kMaxQueryCoordinate, both at their
-  // limits answered exactly.
-  iclap::TriangleMesh m;
-  m.vertices.resize(3, 3);
-  m.vertices << 1, 2, 1, 1, 1, 2, 1, 1, 1;
-  m.triangles.resize(3, 1);
-  m.triangles << 0, 1, 2;
+  // kMaxMeshCoordinate, queries within kMaxQueryCoordinate; at those limits
+  // the answer is a point of the right triangle at a finite distance.
+  const iclap::TriangleMesh m = one_triangle({1, 1, 1}, {2, 1, 1}, {1, 2, 1});
   const iclap::MeshBvh bvh(m);
   const auto near = bvh.closest_point(Eigen::Vector3d(1.2, 1.2, 5));
   CHECK(near.triangle == 0);
