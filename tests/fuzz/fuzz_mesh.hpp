@@ -125,7 +125,8 @@ inline void fuzz_mesh_stl(const std::uint8_t* data, std::size_t size) {
   TriangleMesh m;
   if (!fuzz_load(bytes, "fuzz.stl", [](std::istream& in, const std::string& n) { return load_stl(in, n); }, m)) return;
   fuzz_check_mesh(m);
-  std::size_t i = 0;
+  // (An ASCII file may start with a UTF-8 byte-order mark.)
+  std::size_t i = bytes.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
   while (i < size && detail::is_space(bytes[i])) ++i;
   if (bytes.substr(i, 5) == "solid") return;  // ASCII, or binary whose header starts with "solid"
   fuzz_mesh_require(size >= 84, "binary STL of at least 84 bytes");

@@ -104,6 +104,8 @@ write("mesh_obj", "bom_crlf.obj", b"\xef\xbb\xbfo a\r\nv 0 0 0\r\nv 1 0 0\r\nv 0
 text("mesh_obj", "index_zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n")
 text("mesh_obj", "index_huge.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2147483648\nf 1 2 -9223372036854775808\n")
 text("mesh_obj", "no_faces.obj", "v 0 0 0\nv 1 0 0\n# f 1 2 3\n")
+text("mesh_obj", "vertex_junk.obj", "v 0 0 0 junk\nv 1 0 0 1 0.5 0.5 0.5\nv 0 1 0\nf 1 2 3\n")
+text("mesh_obj", "cr_only.obj", "v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r")
 
 for n in ["box_ascii.stl", "box_binary.stl", "box_binary_solid.stl", "truncated_binary.stl", "bad_ascii.stl"]:
     copy("mesh_stl", "mesh", n)
@@ -119,6 +121,8 @@ text("mesh_stl", "ascii_normals.stl",
      "solid a\n facet normal -1.#IND00 1.#QNAN nan\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n"
      "   vertex 1 1 0\n   vertex 0 1 0\n  endloop\n endfacet\nendsolid a\nsolid b\nendsolid\n")
 text("mesh_stl", "ascii_cut.stl", "solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n")
+write("mesh_stl", "bom_ascii.stl", b"\xef\xbb\xbfsolid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+      b"vertex 0 1 0\nendloop\nendfacet\nendsolid t\n")
 
 for n in ["box_ascii.ply", "box_binary_le.ply", "box_binary_be.ply", "truncated_le.ply", "bad_index_ascii.ply",
           "bad_header.ply"]:
@@ -131,6 +135,12 @@ text("mesh_ply", "pad_elements.ply", "ply\nformat ascii 1.0\nelement pad 2\nelem
      "\n\n" + TET + "2 0.5 1\n")
 text("mesh_ply", "float_indices.ply", "ply\nformat ascii 1.0\nelement vertex 3\n" + XYZ +
      "element face 1\nproperty list char float vertex_index\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2.0\n")
+# A binary tetrahedron whose header declares 3 faces of the 4 in its body.
+write("mesh_ply", "binary_extra_face.ply",
+      ("ply\nformat binary_little_endian 1.0\nelement vertex 4\n" + XYZ +
+       "element face 3\nproperty list uchar int vertex_indices\nend_header\n").encode() +
+      struct.pack("<12f", 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1) +
+      b"".join(b"\x03" + struct.pack("<3i", *f) for f in [(0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3)]))
 text("mesh_ply", "point_cloud_labels.ply", "ply\nformat ascii 1.0\nelement vertex 2\n" + XYZ +
      "property uchar label\nproperty short t\nend_header\n1 2 3 4 -5\n6 7 8 255 32767\n")
 # Many vertex properties, each a value per vertex.
