@@ -504,6 +504,26 @@ TEST_CASE("min-max normalisation refuses negative distances, as l2 does") {
   CHECK(z.sum() == doctest::Approx(0.0).epsilon(1e-12));
 }
 
+TEST_CASE("normalize builds a name given as a callable only to name an error") {
+  // Recognizer passes "distances of 'NAME'" this way for every test: the
+  // string is built only when the distances are refused.
+  int built = 0;
+  const auto name = [&built] {
+    ++built;
+    return std::string("distances of 'mine'");
+  };
+  Eigen::VectorXd d = vec({0.5, 1.0, 2.0});
+  for (const auto kind : {Normalization::L2, Normalization::MinMax, Normalization::ZScore}) normalize(d, kind, name);
+  CHECK(built == 0);
+  Eigen::VectorXd negative = vec({0.5, -1.0});
+  CHECK(error_of([&] { normalize(negative, Normalization::L2, name); }) ==
+        "distances of 'mine' | distances of 'mine': must be non-negative for l2 normalisation (got -1)");
+  CHECK(built == 1);
+  Eigen::VectorXd nan = vec({0.5, std::numeric_limits<double>::quiet_NaN()});
+  CHECK_THROWS_AS(normalize(nan, Normalization::ZScore, name), NonFiniteValue);
+  CHECK(built == 2);
+}
+
 TEST_CASE("decision confidence: the best and second-best distances wherever they stand") {
   // Descending, the second best last, the best first: 1 - 0.2 / 0.4 each time.
   CHECK(decision_confidence(vec({0.8, 0.4, 0.2})) == doctest::Approx(0.5));

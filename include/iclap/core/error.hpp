@@ -81,6 +81,15 @@ class NonFiniteValue : public InvalidArgument {
   std::ptrdiff_t column_;
 };
 
+/// The name `name` gives: `name` itself (a string), or what it returns (a
+/// callable). Lets a function take an argument's name that is built only
+/// when an error names it, as rename_argument and normalize do.
+template <typename Name>
+std::string argument_name(const Name& name) {
+  if constexpr (std::is_invocable_v<const Name&>) return std::string(name());
+  else return std::string(name);
+}
+
 /// Returns `f()`; an InvalidArgument of exactly that type naming `from` is
 /// thrown again naming `to`, with the same reason. Lets a caller give a
 /// callee's parameter ("image", "settings.voxel") the name its own user
@@ -95,8 +104,7 @@ decltype(auto) rename_argument(std::string_view from, const To& to, F&& f) {
     return std::forward<F>(f)();
   } catch (const InvalidArgument& e) {
     if (typeid(e) != typeid(InvalidArgument) || e.argument() != from) throw;
-    if constexpr (std::is_invocable_v<const To&>) throw InvalidArgument(std::string(to()), e.reason());
-    else throw InvalidArgument(std::string(to), e.reason());
+    throw InvalidArgument(argument_name(to), e.reason());
   }
 }
 

@@ -6,6 +6,7 @@
 #include <charconv>
 #include <system_error>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -85,16 +86,21 @@ inline Method with_variants(const Method& m, const std::string& classifier, cons
 
 namespace detail {
 
-/// `parts` sorted and joined by `separator` (the key of a commutative
-/// operation).
-inline std::string join_sorted(std::vector<std::string> parts, char separator) {
-  std::sort(parts.begin(), parts.end());
+/// `parts` joined by `separator`, in order.
+inline std::string join(const std::vector<std::string>& parts, std::string_view separator) {
   std::string out;
   for (const auto& p : parts) {
     if (!out.empty()) out += separator;
     out += p;
   }
   return out;
+}
+
+/// `parts` sorted and joined by `separator` (the key of a commutative
+/// operation).
+inline std::string join_sorted(std::vector<std::string> parts, std::string_view separator) {
+  std::sort(parts.begin(), parts.end());
+  return join(parts, separator);
 }
 
 /// The text of `f` with the terms of every sum and the factors of every
@@ -113,7 +119,7 @@ inline std::string fusion_key(const Fusion& f, bool free_weights) {
         const std::string term = bracket ? "(" + child + ")" : child;
         terms.push_back(free_weights ? term : format_exact(f.weights()[i]) + "*" + term);
       }
-      return join_sorted(std::move(terms), '+');
+      return join_sorted(std::move(terms), "+");
     }
     case Fusion::Kind::Product: {
       std::vector<std::string> factors;
@@ -121,7 +127,7 @@ inline std::string fusion_key(const Fusion& f, bool free_weights) {
         const std::string child = fusion_key(c, false);
         factors.push_back(child.find('+') != std::string::npos ? "(" + child + ")" : child);
       }
-      return join_sorted(std::move(factors), '*');
+      return join_sorted(std::move(factors), "*");
     }
   }
   return {};

@@ -45,15 +45,17 @@ inline Normalization parse_normalization(const std::string& name) {
 
 /// Normalises `d` (one distance per object) in place. Distances must be
 /// finite and, for L2 and MinMax, non-negative (NonFiniteValue /
-/// InvalidArgument naming `argument`). Degenerate inputs are defined, never
-/// NaN: all zeros (L2) or all equal (MinMax, ZScore) give all zeros, a tie
-/// of every object. O(N).
-inline void normalize(Eigen::Ref<Eigen::VectorXd> d, Normalization kind, const std::string& argument = "distances") {
-  check_finite(d, argument);
+/// InvalidArgument naming `argument`: a string, or a callable returning one,
+/// called only to name an error). Degenerate inputs are defined, never NaN:
+/// all zeros (L2) or all equal (MinMax, ZScore) give all zeros, a tie of
+/// every object. O(N).
+template <typename Name = const char*>
+void normalize(Eigen::Ref<Eigen::VectorXd> d, Normalization kind, const Name& argument = "distances") {
+  if (!d.allFinite()) check_finite(d, argument_name(argument));
   if (d.size() == 0) return;
   if (kind != Normalization::ZScore && d.minCoeff() < 0)
-    throw InvalidArgument(argument, "must be non-negative for " + std::string(to_string(kind)) +
-                                           " normalisation (got " + format_value(d.minCoeff()) + ")");
+    throw InvalidArgument(argument_name(argument), "must be non-negative for " + std::string(to_string(kind)) +
+                                                       " normalisation (got " + format_value(d.minCoeff()) + ")");
   switch (kind) {
     case Normalization::L2: {
       // Scale first so that huge distances cannot overflow the squares.

@@ -24,12 +24,10 @@ inline void check_methods_use_known_classifiers(const std::vector<Method>& metho
                                                 const std::vector<std::string>& available) {
   for (const auto& m : methods)
     for (const auto& c : m.classifiers())
-      if (std::find(available.begin(), available.end(), c) == available.end()) {
-        std::string list;
-        for (const auto& a : available) list += (list.empty() ? "" : ", ") + a;
+      if (std::find(available.begin(), available.end(), c) == available.end())
         throw InvalidArgument("methods", "method '" + m.name + "' needs classifier '" + c +
-                                             "', which is not among the classifiers (" + list + ")");
-      }
+                                             "', which is not among the classifiers (" +
+                                             detail::join(available, ", ") + ")");
 }
 
 /// How sure a decision is: the relative margin 1 - best / second best of
@@ -159,11 +157,9 @@ class Recognizer {
   /// would be skipped silently, leaving its distances out of the table).
   void check_only(const std::vector<std::string>& only) const {
     for (const auto& name : only)
-      if (std::none_of(classifiers_.begin(), classifiers_.end(), [&](const auto& c) { return c->name() == name; })) {
-        std::string list;
-        for (const auto& c : classifiers_) list += (list.empty() ? "" : ", ") + c->name();
-        throw InvalidArgument("only", quote_text(name, 60) + " is not the name of a classifier (" + list + ")");
-      }
+      if (std::none_of(classifiers_.begin(), classifiers_.end(), [&](const auto& c) { return c->name() == name; }))
+        throw InvalidArgument("only", quote_text(name, 60) + " is not the name of a classifier (" +
+                                          detail::join(classifier_names(), ", ") + ")");
   }
 
   /// The table of the wanted classifiers' distances, each computed by
@@ -180,7 +176,8 @@ class Recognizer {
       const auto start = std::chrono::steady_clock::now();
       compute(c, i, d);
       if (seconds) (*seconds)[i] += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      normalize(d, normalization_, "distances of '" + c.name() + "'");
+      // The name is built only if normalize refuses (this runs for every test).
+      normalize(d, normalization_, [&c] { return "distances of '" + c.name() + "'"; });
       table.set(c.name(), d);
     }
     return table;
