@@ -154,8 +154,15 @@ TEST_CASE("Frame rate to delay") {
     CHECK(e.argument() == "rate");
   }
   // The rate as given (std::to_string printed 1e-9 as 0.000000).
-  CHECK_THROWS_WITH_AS(delay_ms_for_rate(1e-9),
-                       "rate: 1e-09 frames/s needs a delay outside the sensor's 1..65535 ms", iclap::InvalidArgument);
+  CHECK_THROWS_WITH_AS(delay_ms_for_rate(1e-9), "rate: 1e-09 frames/s needs a delay of 1e+12 ms, beyond the sensor's 65535 ms",
+                       iclap::InvalidArgument);
+  // Just above 1000 frames/s the delay would round to 1 ms, inside the
+  // range: the message says what is wrong, the rate (it used to claim a
+  // delay outside 1..65535 ms).
+  CHECK(delay_ms_for_rate(1000.0) == 1);
+  CHECK_THROWS_WITH_AS(delay_ms_for_rate(1000.4),
+                       "rate: 1000.4 frames/s is faster than the sensor's 1 ms delay allows (at most 1000 frames/s)",
+                       iclap::InvalidArgument);
 }
 
 TEST_CASE("Frame rate to delay: rounded to the nearest millisecond; a rate of 0 is named as not positive") {

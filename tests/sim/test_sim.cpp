@@ -507,6 +507,16 @@ TEST_CASE("mesh objects: a file listed twice in meshes.json is refused at the se
   CHECK_THROWS_WITH_AS(parse_manifest("[{\"file\": \"a.obj\", \"scale_to_metres\": 1}, {\"file\": \"a.obj\", "
                              "\"scale_to_metres\": 1}]"),
                        "meshes.json:1: 'a.obj' is listed twice (first at line 1)", iclap::ParseError);
+  // A member given twice in one entry: JSON leaves the value undefined (the
+  // last one used to win silently).
+  CHECK_THROWS_WITH_AS(parse_manifest("[{\"file\": \"a.obj\", \"scale_to_metres\": 0.001,\n"
+                                      "  \"scale_to_metres\": 1}]"),
+                       "meshes.json:2: 'scale_to_metres' given twice in one entry", iclap::ParseError);
+  CHECK_THROWS_WITH_AS(parse_manifest("[{\"file\": \"a.obj\", \"file\": \"b.obj\", \"scale_to_metres\": 1}]"),
+                       "meshes.json:1: 'file' given twice in one entry", iclap::ParseError);
+  // A UTF-8 byte-order mark, as an editor may write, is skipped (it was
+  // refused with "expected '['").
+  CHECK(parse_manifest("\xEF\xBB\xBF[{\"file\": \"a.obj\", \"scale_to_metres\": 0.5}]").at("a.obj") == 0.5);
   // Entries without both members are ignored, so they are not duplicates.
   const auto scales = parse_manifest("[{\"file\": \"a.obj\"}, {\"file\": \"a.obj\", \"scale_to_metres\": 0.01}]");
   CHECK(scales.at("a.obj") == 0.01);

@@ -129,10 +129,13 @@ inline Bytes encode_packet(std::uint8_t id, const Bytes& payload = {}) {
 inline std::uint16_t delay_ms_for_rate(double rate) {
   if (!std::isfinite(rate) || rate <= 0.0)
     throw InvalidArgument("rate", format_value(rate) + " frames/s is not a positive finite rate");
+  if (rate > 1000.0)
+    throw InvalidArgument("rate", format_value(rate) + " frames/s is faster than the sensor's 1 ms delay allows (" +
+                                      "at most 1000 frames/s)");
   const double delay = std::round(1000.0 / rate);
-  if (rate > 1000.0 || delay > 65535.0)
-    throw InvalidArgument("rate", format_value(rate) +
-                                      " frames/s needs a delay outside the sensor's 1..65535 ms");
+  if (delay > 65535.0)
+    throw InvalidArgument("rate", format_value(rate) + " frames/s needs a delay of " + format_value(delay) +
+                                      " ms, beyond the sensor's 65535 ms");
   return static_cast<std::uint16_t>(delay);
 }
 

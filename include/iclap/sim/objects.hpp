@@ -69,6 +69,7 @@ class ManifestParser {
   std::map<std::string, double> parse() {
     std::map<std::string, double> scales;
     std::map<std::string, std::size_t> entry_lines;  // file -> line of its entry
+    if (t_.substr(0, 3) == "\xEF\xBB\xBF") i_ = 3;  // a UTF-8 byte-order mark, as an editor may write
     ws();
     expect('[');
     ws();
@@ -87,10 +88,15 @@ class ManifestParser {
         } else {
           for (;;) {
             ws();
+            const std::size_t key_line = line_;
             const std::string key = string();
             ws();
             expect(':');
             ws();
+            // A repeated member would silently override the first (JSON
+            // leaves duplicate keys undefined), so the two read are unique.
+            if ((key == "file" && file) || (key == "scale_to_metres" && scale))
+              throw ParseError(name_, key_line, "'" + key + "' given twice in one entry");
             if (key == "file") file = string();
             else if (key == "scale_to_metres") scale = number();
             else skip_value();
@@ -249,7 +255,8 @@ class ManifestParser {
 /// Reads a meshes.json manifest (a JSON array of objects with "file" and
 /// "scale_to_metres", as in the team's shared mesh folder): file name ->
 /// metres per file unit. Entries without both members are ignored; a file
-/// with two such entries is a ParseError at the second. Throws
+/// with two such entries, or an entry with either member twice, is a
+/// ParseError at the second. A UTF-8 byte-order mark is skipped. Throws
 /// IoError / ParseError(file, line, reason).
 inline std::map<std::string, double> read_mesh_manifest(const std::string& path) {
   return detail::ManifestParser(detail::read_file(path), path).parse();
