@@ -241,16 +241,15 @@ TEST_CASE("OpenHapticsPoseSource: a failed read is a TransportError naming the s
   CHECK(p->position.isApprox(Eigen::Vector3d(0.010, 0, 0), 1e-12));
 }
 
-// --- Reproducers of defects found by probing the header with the fake
-// (session 50). Skipped until the library is fixed; each says what is
-// expected and what happens. Run them with --no-skip.
+// --- Defects found by probing the header with the fake (session 50), fixed
+// since; each case says what was expected and what used to happen.
 
-TEST_CASE("OpenHapticsPoseSource: a NaN in the arm's transform is not passed on as a pose" * doctest::skip()) {
+TEST_CASE("OpenHapticsPoseSource: a NaN in the arm's transform is not passed on as a pose") {
   // The library's quality bar: no NaN passed on. FixedPoseSource and
   // ReplayPoseSource refuse non-finite poses (check_pose); SensorFrameSource
   // pairs whatever next() returns with the frame, unchecked. Expected: a
   // TransportError naming the source (a device error, like a failed read).
-  // Happens: a pose with a NaN position (translation) or a NaN quaternion
+  // Happened: a pose with a NaN position (translation) or a NaN quaternion
   // (rotation) is returned.
   fake_hd::reset();
   OpenHapticsPoseSource src;
@@ -266,13 +265,15 @@ TEST_CASE("OpenHapticsPoseSource: a NaN in the arm's transform is not passed on 
   SUBCASE("infinite translation") {
     arm_reports(Eigen::Matrix3d::Identity(), Eigen::Vector3d(std::numeric_limits<double>::infinity(), 0, 0));
   }
-  CHECK(contains(transport_error([&src] { (void)src.next(); }), "openhaptics:default"));
+  const std::string what = transport_error([&src] { (void)src.next(); });
+  CHECK(contains(what, "openhaptics:default"));
+  CHECK(contains(what, "the arm reported a transform that is not a pose: it holds a NaN or an infinity"));
 }
 
-TEST_CASE("OpenHapticsPoseSource: a rotation that is not a rotation is not passed on as a pose" * doctest::skip()) {
+TEST_CASE("OpenHapticsPoseSource: a rotation that is not a rotation is not passed on as a pose") {
   // Expected: a TransportError naming the source when the 3x3 block is far
   // from orthonormal with determinant +1 (float rounding, about 1e-7, must
-  // still pass: see the single-precision case above). Happens: the block is
+  // still pass: see the single-precision case above). Happened: the block is
   // taken as is. Its quaternion is normalised, so the pose looks valid
   // (check_pose passes) but does not match the block, and the block also
   // scales or collapses tool_to_pad's offset in the position.
@@ -286,21 +287,28 @@ TEST_CASE("OpenHapticsPoseSource: a rotation that is not a rotation is not passe
   Eigen::Isometry3d tool_to_pad = Eigen::Isometry3d::Identity();
   tool_to_pad.translation() = Eigen::Vector3d(0, 0, 0.05);
   OpenHapticsPoseSource src("", tool_to_pad);
+  std::string why = "its rotation block is not orthonormal (the largest entry of |R^T R - I| is ";
   SUBCASE("all zeros") { arm_reports(Eigen::Matrix3d::Zero(), Eigen::Vector3d(10, 20, 30)); }
   SUBCASE("scaled by 2") { arm_reports(2.0 * generic_rotation(), Eigen::Vector3d(10, 20, 30)); }
   SUBCASE("a reflection") {
     arm_reports(generic_rotation() * Eigen::Vector3d(1, 1, -1).asDiagonal(), Eigen::Vector3d(10, 20, 30));
+    why = "its rotation block is a reflection (determinant -1)";
   }
-  CHECK(contains(transport_error([&src] { (void)src.next(); }), "openhaptics:default"));
+  SUBCASE("nothing written: all 16 entries zero") {
+    for (double& v : fake_hd::state.transform) v = 0;
+    why = "its bottom row is not 0 0 0 1";
+  }
+  const std::string what = transport_error([&src] { (void)src.next(); });
+  CHECK(contains(what, "openhaptics:default"));
+  CHECK(contains(what, "the arm reported a transform that is not a pose: " + why));
 }
 
-TEST_CASE("OpenHapticsPoseSource: all the errors of a failed read are consumed, so the next read works" *
-          doctest::skip()) {
+TEST_CASE("OpenHapticsPoseSource: all the errors of a failed read are consumed, so the next read works") {
   // HD keeps an error stack: every failing call pushes one error and
   // hdGetError pops one. A faulting device fails more than one call of a
   // frame (here hdBeginFrame and hdEndFrame). Expected: next() throws for
   // that read, and once the arm is healthy again the next read returns its
-  // pose. Happens: next() pops only one error; the other is left pending and
+  // pose. Happened: next() pops only one error; the other is left pending and
   // the next, healthy, read throws it ("cannot read the arm's transform:
   // device fault"), one stale failure per error left.
   fake_hd::reset();
@@ -308,7 +316,10 @@ TEST_CASE("OpenHapticsPoseSource: all the errors of a failed read are consumed, 
   arm_reports(Eigen::Matrix3d::Identity(), Eigen::Vector3d(10, 0, 0));
   fake_hd::state.begin_frame_error = HD_DEVICE_FAULT;
   fake_hd::state.end_frame_error = HD_COMM_ERROR;
-  CHECK(contains(transport_error([&src] { (void)src.next(); }), "cannot read the arm's transform"));
+  const std::string what = transport_error([&src] { (void)src.next(); });
+  CHECK(contains(what, "cannot read the arm's transform: "));
+  CHECK(contains(what, " more error"));  // the newest named, the others counted
+  CHECK(fake_hd::state.errors.empty());
   fake_hd::state.begin_frame_error = HD_SUCCESS;
   fake_hd::state.end_frame_error = HD_SUCCESS;
   std::optional<Pose> p;
@@ -317,13 +328,12 @@ TEST_CASE("OpenHapticsPoseSource: all the errors of a failed read are consumed, 
   CHECK(p->position.isApprox(Eigen::Vector3d(0.010, 0, 0), 1e-12));
 }
 
-TEST_CASE("OpenHapticsPoseSource: an error left pending before construction neither fails it nor leaks the arm" *
-          doctest::skip()) {
+TEST_CASE("OpenHapticsPoseSource: an error left pending before construction neither fails it nor leaks the arm") {
   // An HD error left on the stack by an earlier HD user in the process
   // (another library, or an earlier failed read whose other errors stayed,
   // see above). Expected: the source starts (the stale error is not this
   // arm's), or at least, if it throws, it disables the device it
-  // initialised. Happens: the check after hdInitDevice pops the stale error
+  // initialised. Happened: the check after hdInitDevice pops the stale error
   // and throws "cannot initialise the arm" although init succeeded, and the
   // initialised device is never disabled (the destructor does not run for a
   // throwing constructor).
@@ -334,10 +344,9 @@ TEST_CASE("OpenHapticsPoseSource: an error left pending before construction neit
   if (!src) CHECK(fake_hd::state.enabled.empty());
 }
 
-TEST_CASE("OpenHapticsPoseSource: a non-finite or non-rigid tool_to_pad is refused before the arm starts" *
-          doctest::skip()) {
+TEST_CASE("OpenHapticsPoseSource: a non-finite or non-rigid tool_to_pad is refused before the arm starts") {
   // Expected: InvalidArgument naming "tool_to_pad" from the constructor,
-  // before hdInitDevice (as FixedPoseSource refuses a bad pose). Happens:
+  // before hdInitDevice (as FixedPoseSource refuses a bad pose). Happened:
   // accepted; every pose then has a NaN position and quaternion (NaN), or a
   // scaled offset and a quaternion that does not match the rotation (scaled).
   fake_hd::reset();
