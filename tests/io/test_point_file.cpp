@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <doctest/doctest.h>
 
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -102,4 +103,19 @@ TEST_CASE("point files: the line of every point") {
   const auto p = read_point_file(in, "pts.txt", &lines);
   CHECK(p.cols() == 3);
   CHECK(lines == std::vector<std::size_t>{3, 5, 7});
+}
+
+// ---------------------------------------------------------------------------
+// Audit (session 50): defects found from a user's side, skipped until fixed.
+
+TEST_CASE("point file: a stream that failed to open is an IoError, not a file without points" * doctest::skip()) {
+  // point_file.hpp read_point_file(std::istream&, name) checks only
+  // in.bad(): an std::ifstream that could not open its file (failbit only)
+  // gave ParseError "NAME:0: no points in the file".
+  const std::string path = "/nonexistent-iclap-directory/points.txt";
+  std::ifstream in(path);
+  REQUIRE_FALSE(in.is_open());
+  CHECK_THROWS_AS(read_point_file(in, path), IoError);
+  // An open stream without points is still a ParseError.
+  CHECK(error_of("# nothing\n") == "pts.txt:1: no points in the file");
 }
