@@ -257,3 +257,28 @@ TEST_CASE("lists of settings: up to 256 combinations are variants; a combination
             .rfind("--occupancy-free-radius 0.002 with --occupancy-truncation 0.001: must be > 0 and at most truncation",
                    0) == 0);
 }
+
+// Defect found by the session-50 audit, skipped until fixed: --trim-choices
+// that differ only past the 6th significant digit are accepted as distinct,
+// but trim_variant() names a variant with %g of the percentage, so both
+// become "icp-trim33_3333": `iclap evaluate FILE --trim auto --trim-choices
+// 0.3333331,0.3333332` then fails after reading FILE, naming the dataset
+// ("FILE: classifiers: two classifiers are named 'icp-trim33_3333'"), not
+// the option; and a variant's fraction, read back from its name by
+// trim_of(), is the rounded 0.333333, not the fraction given. Either the
+// choices are refused naming --trim-choices, or every choice is a variant
+// of its own with the fraction given.
+TEST_CASE("--trim-choices: every choice is a variant of its own, with the fraction given" * doctest::skip()) {
+  const Args args = {"--trim", "auto", "--trim-choices", "0.3333331,0.3333332"};
+  const std::string refused = usage_error(args);
+  if (refused != "(no error)") {
+    CHECK(refused.rfind("--trim-choices", 0) == 0);
+  } else {
+    const RecognitionOptions ro = parsed(args);
+    const std::vector<std::string> variants = ro.trim_variants("icp");
+    REQUIRE(variants.size() == 2);
+    CHECK(variants[0] != variants[1]);
+    CHECK(ro.trim_of(variants[0]) == 0.3333331);
+    CHECK(ro.trim_of(variants[1]) == 0.3333332);
+  }
+}
