@@ -259,10 +259,16 @@ TEST_CASE("method names, parsing and the weight grid") {
             .find("'0.5*bow+0.5*icp' appears twice in one sum") != std::string::npos);
   CHECK(error_of([] { parse_method("iclap*(0.5*icp+0.5*bow)*(0.5*bow+0.5*icp)"); })
             .find("'0.5*bow+0.5*icp' appears twice in one product") != std::string::npos);
-  // A classifier in two different terms is a real fusion, and so is a sum
-  // whose weights are given.
+  // A term given twice with its weights is the term alone, weighted by their
+  // sum: "0.5*icp+0.5*icp" ran as a second column of icp (session 50's
+  // audit).
+  CHECK(error_of([] { parse_method("0.5*icp+0.5*icp"); }).find("'icp' appears twice in one sum") !=
+        std::string::npos);
+  CHECK(error_of([] { parse_method("0.2*icp*bow+0.3*bow+0.5*bow*icp"); }).find("'bow*icp' appears twice in one sum") !=
+        std::string::npos);
+  // A classifier in two different terms is a real fusion.
   CHECK(parse_method("icp*bow+icp").classifiers() == std::vector<std::string>{"icp", "bow"});
-  CHECK(parse_method("0.5*icp+0.5*icp").fusion.weights() == std::vector<double>{0.5, 0.5});
+  CHECK(parse_method("0.5*icp+0.5*icp*bow").fusion.weights() == std::vector<double>{0.5, 0.5});
 
   const auto g2 = weight_grid(2);
   REQUIRE(g2.size() == 9);

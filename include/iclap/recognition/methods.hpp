@@ -194,10 +194,13 @@ class MethodParser {
     if (terms.size() == 1 && weighted == 0) return terms.front().second;
     if (weighted != 0 && weighted != static_cast<int>(terms.size()))
       fail("give a weight for every term of a sum, or for none (then they are fitted)");
+    // A term given twice: with fitted weights every split of their weight
+    // gives the same fusion, so the grid's choice would mean nothing
+    // ("icp+icp", a typo); with given weights w1 X + w2 X is (w1 + w2) X, so
+    // "0.5*icp+0.5*icp" is icp again under another name, a second column of
+    // one method.
+    refuse_repeated(terms, [](const std::pair<double, Fusion>& t) -> const Fusion& { return t.second; }, "sum");
     if (weighted == 0) {
-      // A term given twice: every split of their weight gives the same
-      // fusion, so the grid's choice would mean nothing ("icp+icp", a typo).
-      refuse_repeated(terms, [](const std::pair<double, Fusion>& t) -> const Fusion& { return t.second; }, "sum");
       // Weights to be chosen by the grid: start from uniform ones.
       fit = true;
       const double u = 1.0 / static_cast<double>(terms.size());
