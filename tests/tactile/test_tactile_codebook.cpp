@@ -1013,10 +1013,9 @@ TEST_CASE("k-means: two words re-seeded in one step; a cluster that gave a featu
 }
 
 // ---------------------------------------------------------------------------
-// Audit (session 50): defects found from a user's side, skipped until fixed.
+// Audit (session 50): defects found from a user's side, fixed since.
 
-TEST_CASE("k-means: check() agrees with fit() when only some pairs of features are too close to tell apart" *
-          doctest::skip()) {
+TEST_CASE("k-means: check() agrees with fit() when only some pairs of features are too close to tell apart") {
   // kmeans.hpp check_features() compares the smallest_spread bound with the
   // largest difference from features.col(0) only. Here it is 1, but 0 and
   // 1e-200 are 1e-400 apart squared: 0 in double. check() counts 3 distinct
@@ -1043,6 +1042,14 @@ TEST_CASE("k-means: check() agrees with fit() when only some pairs of features a
     CHECK(checked == fitted);
     // Whatever is refused, 3 distinct features are not called 2.
     CHECK(fitted.find("distinct features (2)") == std::string::npos);
+    // fit() now takes the next distinct feature when squared distances
+    // cannot tell the rest apart: three finite words, 0 and 1 on different
+    // ones (0 and 1e-200 may share one: no distance in double separates
+    // them).
+    CHECK(checked == "(no error)");
+    REQUIRE(q.size() == 3);
+    CHECK(q.centres().allFinite());
+    CHECK(q.assign(x.col(0)) != q.assign(x.col(2)));
   }
 }
 
@@ -1060,8 +1067,7 @@ struct SizeTQuantizer {
 };
 }  // namespace
 
-TEST_CASE("bag of words: an unsigned word id beyond the range is named by its value, not as a negative one" *
-          doctest::skip()) {
+TEST_CASE("bag of words: an unsigned word id beyond the range is named by its value, not as a negative one") {
   // bag_of_words.hpp word_histogram / word_histograms and quantizer.hpp
   // assign_words cast every id to Index before the range check, so SIZE_MAX
   // (accepted: the id type need only be integral) was reported as
@@ -1112,8 +1118,7 @@ std::string dimension_outcome_in_child(F&& f) {
 }
 }  // namespace
 
-TEST_CASE("k-means with a fixed Dim: features of another dimension are a DimensionMismatch, not an Eigen assertion" *
-          doctest::skip()) {
+TEST_CASE("k-means with a fixed Dim: features of another dimension are a DimensionMismatch, not an Eigen assertion") {
   // kmeans.hpp fit / check / from_centres take `const Features&`
   // (Cloud<Scalar, Dim>); a dynamic matrix of another row count converts
   // implicitly, and Eigen's unchecked resize asserts (abort) in a debug

@@ -858,7 +858,7 @@ TEST_CASE("bad input names the argument: pressures, threshold, a fixed raw-press
 }
 
 // ---------------------------------------------------------------------------
-// Audit (session 50): defects found from a user's side, skipped until fixed.
+// Audit (session 50): defects found from a user's side, fixed since.
 
 namespace {
 /// True when `f` threw an InvalidArgument naming "image" (a refusal of the
@@ -876,8 +876,7 @@ bool refused_image(F&& f, Feature& out) {
 }
 }  // namespace
 
-TEST_CASE("raw pressures: a feature beyond the range of the feature type is refused naming the image, never inf" *
-          doctest::skip()) {
+TEST_CASE("raw pressures: a feature beyond the range of the feature type is refused naming the image, never inf") {
   // raw_pressures.hpp compute(): image(r, c) * factor is cast to Scalar with
   // no check, so pressures the feature type cannot hold came out as inf
   // (Tactile-SIFT refuses its raw histograms there, naming "image").
@@ -898,8 +897,7 @@ TEST_CASE("raw pressures: a feature beyond the range of the feature type is refu
   CHECK((refused_double || all_finite(g)));
 }
 
-TEST_CASE("moments descriptor: a mean pressure beyond the range of the feature type is refused naming the image, never inf" *
-          doctest::skip()) {
+TEST_CASE("moments descriptor: a mean pressure beyond the range of the feature type is refused naming the image, never inf") {
   // moments.hpp compute(): f[0] = total / (full_scale * size) is finite in
   // double but cast to float it became inf; and with a small full_scale it
   // overflows in double too (mean_over_full_scale says its result "is
@@ -917,7 +915,7 @@ TEST_CASE("moments descriptor: a mean pressure beyond the range of the feature t
   CHECK((refused_double || all_finite(g)));
 }
 
-TEST_CASE("Tactile-SIFT: a narrow Gaussian window does not turn a contact into the zero vector" * doctest::skip()) {
+TEST_CASE("Tactile-SIFT: a narrow Gaussian window does not turn a contact into the zero vector") {
   // tactile_sift.hpp: window_sigma = 0.001 is accepted (finite, >= 0), but
   // every weight exp(-z^2 / 2) underflows to 0 (z >= 0.5 / (0.001 * 6) = 83
   // on a 6-column pad), so a pressed pad gave the zero vector, which the
@@ -937,13 +935,12 @@ TEST_CASE("Tactile-SIFT: a narrow Gaussian window does not turn a contact into t
   }
   CAPTURE(refused);
   CHECK((refused == "settings.window_sigma" || f.norm() == doctest::Approx(1.0)));
-  // A wider window keeps the contact (the gradients are there).
-  narrow.window_sigma = 0.01;
+  // The narrowest window allowed keeps the contact (the gradients are there).
+  narrow.window_sigma = TactileSift<double>::kMinWindowSigma;
   CHECK(TactileSift<double>(narrow).compute(TactileImage(p)).norm() == doctest::Approx(1.0));
 }
 
-TEST_CASE("Tactile-SIFT: settings whose length sp * sp * dn overflows an Index are refused naming the setting" *
-          doctest::skip()) {
+TEST_CASE("Tactile-SIFT: settings whose length sp * sp * dn overflows an Index are refused naming the setting") {
   // tactile_sift.hpp: the constructor checks sp >= 1 and dn >= 1 only, and
   // length() computes Index(sp) * sp * dn, which for sp = dn = INT_MAX is
   // about 2^93: signed overflow (UB; UBSan: "signed integer overflow"), a

@@ -11,6 +11,7 @@
 
 #include "iclap/core/error.hpp"
 #include "iclap/core/types.hpp"
+#include "iclap/tactile/quantizer.hpp"
 
 namespace iclap {
 
@@ -38,11 +39,10 @@ WordHistogram word_histogram(const Words& words, Index k) {
   WordHistogram h = WordHistogram::Zero(k);
   Index count = 0;
   for (const auto w : words) {
-    const auto id = static_cast<Index>(w);
-    if (id < 0 || id >= k)
-      throw InvalidArgument("words", "word " + std::to_string(id) + " at position " + std::to_string(count) +
+    if (!detail::id_in_range(w, k))
+      throw InvalidArgument("words", "word " + std::to_string(w) + " at position " + std::to_string(count) +
                                          " is outside [0, " + std::to_string(k) + ")");
-    h[id] += 1.0;
+    h[static_cast<Index>(w)] += 1.0;
     ++count;
   }
   if (count == 0) throw EmptyInput("words", "holds no word id (a histogram needs at least one touch)");
@@ -60,6 +60,10 @@ template <typename Words, typename Groups>
 Eigen::MatrixXd word_histograms(const Words& words, const Groups& groups, Index k, Index group_count) {
   using std::begin;
   using std::end;
+  static_assert(std::is_integral_v<std::decay_t<decltype(*begin(words))>>,
+                "iclap: word_histograms needs a range of integer word ids");
+  static_assert(std::is_integral_v<std::decay_t<decltype(*begin(groups))>>,
+                "iclap: word_histograms needs a range of integer group ids");
   if (k < 1) throw InvalidArgument("k", "must be at least 1, got " + std::to_string(k));
   if (group_count < 1) throw InvalidArgument("group_count", "must be at least 1, got " + std::to_string(group_count));
   const auto n_words = static_cast<Index>(std::distance(begin(words), end(words)));
@@ -70,15 +74,13 @@ Eigen::MatrixXd word_histograms(const Words& words, const Groups& groups, Index 
   auto g_it = begin(groups);
   Index position = 0;
   for (auto w_it = begin(words); w_it != end(words); ++w_it, ++g_it, ++position) {
-    const auto id = static_cast<Index>(*w_it);
-    const auto g = static_cast<Index>(*g_it);
-    if (id < 0 || id >= k)
-      throw InvalidArgument("words", "word " + std::to_string(id) + " at position " + std::to_string(position) +
+    if (!detail::id_in_range(*w_it, k))
+      throw InvalidArgument("words", "word " + std::to_string(*w_it) + " at position " + std::to_string(position) +
                                          " is outside [0, " + std::to_string(k) + ")");
-    if (g < 0 || g >= group_count)
-      throw InvalidArgument("groups", "group " + std::to_string(g) + " at position " + std::to_string(position) +
+    if (!detail::id_in_range(*g_it, group_count))
+      throw InvalidArgument("groups", "group " + std::to_string(*g_it) + " at position " + std::to_string(position) +
                                           " is outside [0, " + std::to_string(group_count) + ")");
-    h(id, g) += 1.0;
+    h(static_cast<Index>(*w_it), static_cast<Index>(*g_it)) += 1.0;
   }
   for (Index g = 0; g < group_count; ++g) {
     const double total = h.col(g).sum();

@@ -212,20 +212,35 @@ class KMeansQuantizer {
   /// Additionally throws DimensionMismatch / InvalidArgument naming
   /// "initial_centres", and InvalidArgument naming "settings.k" when k
   /// exceeds the number of distinct features.
-  KMeansResult fit_from(const Features& features, const Features& initial_centres,
+  template <typename D1, typename D2>
+  KMeansResult fit_from(const Eigen::MatrixBase<D1>& features, const Eigen::MatrixBase<D2>& initial_centres,
                         const ProgressCallback& progress = {}) {
-    validate_settings();
-    check_features(features);
-    check_not_empty(initial_centres, "initial_centres");
-    check_dimension(initial_centres.rows(), features.rows(), "initial_centres");
-    check_finite(initial_centres, "initial_centres");
-    check_coordinate_range<Scalar>(initial_centres, "initial_centres");
-    if (initial_centres.cols() != settings.k)
-      throw InvalidArgument("initial_centres", "has " + std::to_string(initial_centres.cols()) +
-                                                   " columns but settings.k is " + std::to_string(settings.k));
-    const Index distinct = count_distinct(features);
-    if (settings.k > distinct) throw too_many_words(distinct);
-    return run(features, initial_centres, progress);
+    // Other Eigen types are copied into Features, rows checked, as fit()'s
+    // overload below does.
+    if constexpr (std::is_same_v<D1, Features> && std::is_same_v<D2, Features>)
+      return fit_from_features(features.derived(), initial_centres.derived(), progress);
+    else
+      return fit_from_features(as_features(features, "features"), as_features(initial_centres, "initial_centres"),
+                               progress);
+  }
+
+  /// fit(), check() and from_centres() for features or centres
+  /// given as another Eigen type (a MatrixXf, a block, a map): with a fixed
+  /// Dim their row count is checked first, DimensionMismatch naming the
+  /// argument, since Eigen's conversion to Features does not check it in a
+  /// release build (a 4-row matrix was read as 3 rows, a silent wrong
+  /// codebook). The features are copied into Features.
+  template <typename Derived, typename = std::enable_if_t<!std::is_same_v<Derived, Features>>>
+  KMeansResult fit(const Eigen::MatrixBase<Derived>& features, const ProgressCallback& progress = {}) {
+    return fit(as_features(features, "features"), progress);
+  }
+  template <typename Derived, typename = std::enable_if_t<!std::is_same_v<Derived, Features>>>
+  void check(const Eigen::MatrixBase<Derived>& features) const {
+    check(as_features(features, "features"));
+  }
+  template <typename Derived, typename = std::enable_if_t<!std::is_same_v<Derived, Features>>>
+  static KMeansQuantizer from_centres(const Eigen::MatrixBase<Derived>& centres, const Settings& s = {}) {
+    return from_centres(as_features(centres, "centres"), s);
   }
 
   /// Number of words (0 before fit).
@@ -300,6 +315,31 @@ class KMeansQuantizer {
   /// infinite distance from every centre had no word, and its index -1 was
   /// used), or a spread below smallest_spread (they underflow: distinct
   /// features looked identical and the pruning's margins did not hold).
+  KMeansResult fit_from_features(const Features& features, const Features& initial_centres,
+                                 const ProgressCallback& progress) {
+    validate_settings();
+    check_features(features);
+    check_not_empty(initial_centres, "initial_centres");
+    check_dimension(initial_centres.rows(), features.rows(), "initial_centres");
+    check_finite(initial_centres, "initial_centres");
+    check_coordinate_range<Scalar>(initial_centres, "initial_centres");
+    if (initial_centres.cols() != settings.k)
+      throw InvalidArgument("initial_centres", "has " + std::to_string(initial_centres.cols()) +
+                                                   " columns but settings.k is " + std::to_string(settings.k));
+    const Index distinct = count_distinct(features);
+    if (settings.k > distinct) throw too_many_words(distinct);
+    return run(features, initial_centres, progress);
+  }
+
+  /// `m` as Features, its row count checked against a fixed Dim first.
+  template <typename Derived>
+  static Features as_features(const Eigen::MatrixBase<Derived>& m, const char* argument) {
+    static_assert(std::is_same_v<typename Derived::Scalar, Scalar>,
+                  "iclap: KMeansQuantizer takes features of its own Scalar (cast them first)");
+    if constexpr (Dim != Eigen::Dynamic) check_dimension(m.rows(), Dim, argument);
+    return Features(m);
+  }
+
   static void check_features(const Features& features) {
     check_not_empty(features, "features");
     check_finite(features, "features");
@@ -368,7 +408,17 @@ class KMeansQuantizer {
     for (Index c = 1; c < k; ++c) {
       double total = 0.0;
       for (const double v : d2) total += v;
-      if (!(total > 0.0)) throw too_many_words(c);
+      if (!(total > 0.0)) {
+        // Every feature is at squared distance 0 from a chosen centre: k
+        // exceeds the distinct features (c of them), or distinct features
+        // differ by less than squared distances in Scalar resolve (below
+        // about 1e-162 in double). Then the next distinct one in order is
+        // taken, so that fit accepts what check() (an exact count) does.
+        chosen = first_unchosen(features, centres, c);
+        if (chosen < 0) throw too_many_words(c);
+        centres.col(c) = features.col(chosen);
+        continue;
+      }
       const double target = rng.uniform() * total;
       double cumulative = 0.0;
       chosen = -1;
@@ -386,6 +436,16 @@ class KMeansQuantizer {
       }
     }
     return centres;
+  }
+
+  /// The first feature equal to none of the first `c` centres, or -1.
+  static Index first_unchosen(const Features& features, const Features& centres, Index c) {
+    for (Index i = 0; i < features.cols(); ++i) {
+      bool unchosen = true;
+      for (Index j = 0; j < c && unchosen; ++j) unchosen = features.col(i) != centres.col(j);
+      if (unchosen) return i;
+    }
+    return -1;
   }
 
   /// Lloyd's iteration from `centres`; installs the result on success.

@@ -165,6 +165,9 @@ class MomentsDescriptor {
   const Settings& settings() const noexcept { return settings_; }
   Index length() const noexcept { return kLength; }
 
+  /// The descriptor of `image`. Throws InvalidArgument naming "image" when
+  /// the mean pressure over full scale is beyond the range of `Scalar`
+  /// (pressures near 1e39 for float, or a tiny full scale).
   Feature compute(const TactileImage& image) const {
     const ImageMoments m = compute_moments(image);
     const double side = static_cast<double>(std::max(image.rows(), image.cols()));
@@ -180,13 +183,18 @@ class MomentsDescriptor {
     f[6] = spread > 0.0 ? (m.mu20 - m.mu02) / spread : 0.0;
     f[7] = spread > 0.0 ? 2.0 * m.mu11 / spread : 0.0;
     for (int i = 0; i < 7; ++i) f[8 + i] = m.hu[static_cast<std::size_t>(i)];
+    // The other entries are normalised (lengths by the grid's side); the
+    // mean pressure keeps the pressure's scale.
+    detail::check_feature_value<Scalar>(f[0], "the mean pressure over full scale (entry 0) is",
+                                        "scale the pressures or raise settings.full_scale");
     return f.template cast<Scalar>();
   }
 
  private:
   /// The mean pressure / full_scale: total / (full_scale * size), or where
   /// the total or that product is beyond a double (pressures near 1e308, a
-  /// huge full_scale), peak * mean(p / peak) / full_scale, which is finite.
+  /// huge full_scale), peak * mean(p / peak) / full_scale, which is finite
+  /// unless the mean itself is beyond a double (a tiny full_scale).
   double mean_over_full_scale(const TactileImage& image, double total) const {
     const double size = static_cast<double>(image.size());
     const double denominator = settings_.full_scale * size;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "iclap/core/error.hpp"
@@ -29,6 +30,30 @@ inline const char* to_string(PressureNormalization n) noexcept {
   }
   return "unknown";
 }
+
+namespace detail {
+
+/// The largest magnitude a feature of type `Scalar` holds, as a double.
+template <typename Scalar>
+constexpr double largest_feature_value() noexcept {
+  return static_cast<double>(std::numeric_limits<Scalar>::max());
+}
+
+/// Throws InvalidArgument naming "image" unless `value`, an entry of a
+/// descriptor computed in double, is finite and fits `Scalar`: a feature
+/// beyond the feature type's range is refused, not passed on as an
+/// infinity. The message reads "WHAT V, beyond the range of the feature
+/// type (largest L); ADVICE"; `what` is a string or a callable returning
+/// one, built only for the error.
+template <typename Scalar, typename What>
+void check_feature_value(double value, const What& what, const char* advice) {
+  if (std::abs(value) <= largest_feature_value<Scalar>()) return;
+  throw InvalidArgument("image", argument_name(what) + " " + format_value(value) +
+                                     ", beyond the range of the feature type (largest " +
+                                     format_value(largest_feature_value<Scalar>()) + "); " + advice);
+}
+
+}  // namespace detail
 
 /// Throws InvalidArgument naming `argument` unless `full_scale` is finite,
 /// positive and has a finite reciprocal (at least about 5.6e-309), the

@@ -46,6 +46,17 @@ using WordIds = Eigen::Matrix<Index, Eigen::Dynamic, 1>;
 
 namespace detail {
 
+/// Whether the integer `id` lies in [0, n) (n >= 0), compared in the id's
+/// own type: an unsigned id beyond Index's range (SIZE_MAX, say) is out of
+/// range, not read as a negative one. Callers name `id` as given
+/// (std::to_string(id)).
+template <typename Int>
+constexpr bool id_in_range(Int id, Index n) noexcept {
+  static_assert(std::is_integral_v<Int>, "iclap: ids are integers");
+  if constexpr (std::is_signed_v<Int>) return id >= 0 && static_cast<long long>(id) < static_cast<long long>(n);
+  else return static_cast<unsigned long long>(id) < static_cast<unsigned long long>(n);
+}
+
 template <typename Q, typename F, typename = void>
 struct has_quantizer_fit : std::false_type {};
 template <typename Q, typename F>
@@ -115,11 +126,11 @@ WordIds assign_words(const Q& quantizer, const Eigen::MatrixBase<Derived>& featu
   if (k <= 0) throw InvalidArgument("quantizer", "has no words (is it fitted?)");
   WordIds words(f.cols());
   for (Index j = 0; j < f.cols(); ++j) {
-    const auto w = static_cast<Index>(quantizer.assign(f.col(j)));
-    if (w < 0 || w >= k)
+    const auto w = quantizer.assign(f.col(j));
+    if (!detail::id_in_range(w, k))
       throw InvalidArgument("quantizer", "assigned word " + std::to_string(w) + " to features column " +
                                              std::to_string(j) + ", outside [0, " + std::to_string(k) + ")");
-    words[j] = w;
+    words[j] = static_cast<Index>(w);
   }
   return words;
 }

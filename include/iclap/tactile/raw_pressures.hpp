@@ -56,7 +56,9 @@ class RawPressures {
 
   /// The flattened, normalised pressures of `image`. Throws DimensionMismatch
   /// naming "image.rows" / "image.cols" when the grid differs from a
-  /// compile-time Rows / Cols.
+  /// compile-time Rows / Cols, and InvalidArgument naming "image" when a
+  /// normalised pressure is beyond the range of `Scalar` (None or FullScale
+  /// with huge pressures or a tiny full scale; the others are at most 1).
   Feature compute(const TactileImage& image) const {
     if constexpr (Rows > 0) check_dimension(image.rows(), Rows, "image.rows");
     if constexpr (Cols > 0) check_dimension(image.cols(), Cols, "image.cols");
@@ -65,7 +67,17 @@ class RawPressures {
     if constexpr (kLength == Eigen::Dynamic) out.resize(image.size());
     const Index cols = image.cols();
     for (Index r = 0; r < image.rows(); ++r)
-      for (Index c = 0; c < cols; ++c) out[r * cols + c] = static_cast<Scalar>(image(r, c) * factor);
+      for (Index c = 0; c < cols; ++c) {
+        const double v = image(r, c) * factor;
+        detail::check_feature_value<Scalar>(
+            v,
+            [&] {
+              return "the pressure of taxel (" + std::to_string(r) + ", " + std::to_string(c) + "), " +
+                     format_value(image(r, c)) + ", normalised (" + to_string(settings_.normalization) + ") is";
+            },
+            "normalise it (l2, max, sum) or scale the pressures");
+        out[r * cols + c] = static_cast<Scalar>(v);
+      }
     return out;
   }
 

@@ -12,6 +12,7 @@
 
 #include "iclap/core/error.hpp"
 #include "iclap/core/types.hpp"
+#include "iclap/tactile/normalization.hpp"
 #include "iclap/tactile/tactile_image.hpp"
 
 namespace iclap {
@@ -113,12 +114,21 @@ class TactileSift {
     bool soft_orientation = true;
     /// Gaussian window sigma as a fraction of the image extent per axis
     /// (e.g. 0.5 = half the width along x, half the height along y);
-    /// 0 disables the window.
+    /// 0 disables the window. Otherwise at least kMinWindowSigma.
     double window_sigma = 0.0;
     SiftNormalization normalization = SiftNormalization::L2Clip;
     /// L2Clip only: entries are clipped at this value, in (0, 1].
     double clip = 0.2;
   };
+
+  /// The narrowest window: at the pad's edge a window weighs
+  /// exp(-0.5 (0.5 / window_sigma)^2) per axis, 2.6e-136 here; a narrower
+  /// one underflows a double across most of the pad, and a contact off its
+  /// centre became the zero vector.
+  static constexpr double kMinWindowSigma = 0.02;
+  /// The longest feature, sp * sp * dn (so that it and every index into it
+  /// fit an int).
+  static constexpr Index kMaxLength = std::numeric_limits<int>::max();
 
   /// Checks the settings: throws InvalidArgument naming the setting
   /// ("settings.sp", "settings.dn", ...) when it is out of range or differs
@@ -129,6 +139,15 @@ class TactileSift {
     };
     if (settings_.sp < 1) fail("sp", "must be at least 1, got " + std::to_string(settings_.sp));
     if (settings_.dn < 1) fail("dn", "must be at least 1, got " + std::to_string(settings_.dn));
+    // sp * sp fits an Index (sp <= 2^31); the product with dn is checked by
+    // division, since it may not.
+    const Index cells = Index(settings_.sp) * settings_.sp;
+    if (cells > kMaxLength)
+      fail("sp", std::to_string(settings_.sp) + " gives " + std::to_string(cells) + " cells, more than the longest feature (" +
+                     std::to_string(kMaxLength) + " entries)");
+    if (settings_.dn > kMaxLength / cells)
+      fail("dn", "sp * sp * dn = " + std::to_string(cells) + " * " + std::to_string(settings_.dn) +
+                     " is more than the longest feature (" + std::to_string(kMaxLength) + " entries)");
     if (Sp > 0 && settings_.sp != Sp)
       fail("sp", "is " + std::to_string(settings_.sp) + " but the type fixes it to " + std::to_string(Sp) +
                      " (use Eigen::Dynamic for a run-time value)");
@@ -141,6 +160,10 @@ class TactileSift {
       fail("box_overlap", "must be in [0, 1), got " + format_exact(settings_.box_overlap));
     if (!(settings_.window_sigma >= 0.0) || !std::isfinite(settings_.window_sigma))
       fail("window_sigma", "must be finite and >= 0, got " + format_exact(settings_.window_sigma));
+    if (settings_.window_sigma > 0.0 && settings_.window_sigma < kMinWindowSigma)
+      fail("window_sigma", "must be 0 (no window) or at least " + format_exact(kMinWindowSigma) + ", got " +
+                               format_exact(settings_.window_sigma) +
+                               ": a narrower window's weights underflow across the pad");
     if (!(settings_.clip > 0.0 && settings_.clip <= 1.0))
       fail("clip", "must be in (0, 1], got " + format_exact(settings_.clip));
   }
@@ -240,13 +263,10 @@ class TactileSift {
       if (rescaled) acc *= peak;
       // Raw histograms scale with the pressure: beyond the feature type's
       // range they are refused, not passed on as infinities.
-      const double largest = acc.cwiseAbs().maxCoeff();
-      if (!(largest <= static_cast<double>(std::numeric_limits<Scalar>::max())))
-        throw InvalidArgument("image", "the raw (SiftNormalization::None) histograms of pressures peaking at " +
-                                           format_value(peak) + " reach " + format_value(largest) +
-                                           ", beyond the range of the feature type (largest " +
-                                           format_value(static_cast<double>(std::numeric_limits<Scalar>::max())) +
-                                           "); normalise them (L2, L2Clip) or scale the pressures");
+      detail::check_feature_value<Scalar>(
+          acc.cwiseAbs().maxCoeff(),
+          [peak] { return "the raw (SiftNormalization::None) histograms of pressures peaking at " + format_value(peak) + " reach"; },
+          "normalise them (L2, L2Clip) or scale the pressures");
     }
     if constexpr (std::is_same_v<Scalar, double>) {
       return acc;
