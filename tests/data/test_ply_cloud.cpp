@@ -170,18 +170,36 @@ TEST_CASE("labeled cloud ply: reads back with a PLY reader (ascii exact, binary 
 // ---------------------------------------------------------------------------
 // Audit (session 50): defects found from a user's side, skipped until fixed.
 
-TEST_CASE("labeled cloud ply: an unsigned label beyond int32 is refused, not written as -1" * doctest::skip()) {
-  // ply_cloud.hpp casts each label to long long before the int32 range
+TEST_CASE("labeled cloud ply: an unsigned label beyond int32 is refused, not written as -1") {
+  // ply_cloud.hpp cast each label to long long before the int32 range
   // check, so a std::uint64_t / std::size_t label SIZE_MAX (a "no word"
   // sentinel, say) became -1: accepted and written as label -1, grey,
   // though the function promises InvalidArgument for a label outside int32.
+  // Labels are now compared in their own type.
   const TempDir dir("ply_unsigned");
   const std::string path = dir.file("unsigned.ply");
   const Eigen::Matrix3Xd p = Eigen::Matrix3Xd::Zero(3, 2);
-  CHECK_THROWS_AS(iclap::write_labeled_cloud_ply(path, p, std::vector<std::uint64_t>{1, ~std::uint64_t(0)}),
-                  iclap::InvalidArgument);
+  try {
+    iclap::write_labeled_cloud_ply(path, p, std::vector<std::uint64_t>{1, ~std::uint64_t(0)});
+    FAIL("accepted");
+  } catch (const iclap::InvalidArgument& e) {
+    // The label as given, not as -1.
+    CHECK(std::string(e.what()) == "labels: label 18446744073709551615 of point 1 does not fit a PLY int");
+  }
   CHECK_FALSE(fs::exists(path));
-  // 2^32 is refused already (the cast keeps its value).
+  // 2^32 was refused already (the cast kept its value).
   CHECK_THROWS_AS(iclap::write_labeled_cloud_ply(path, p, std::vector<std::uint64_t>{1, std::uint64_t(1) << 32}),
                   iclap::InvalidArgument);
+  // The edge in an unsigned type: INT32_MAX + 1 refused, INT32_MAX written.
+  const std::uint32_t int32_max = static_cast<std::uint32_t>(std::numeric_limits<std::int32_t>::max());
+  CHECK_THROWS_AS(iclap::write_labeled_cloud_ply(path, p, std::vector<std::uint32_t>{0, int32_max + 1u}),
+                  iclap::InvalidArgument);
+  CHECK_FALSE(fs::exists(path));
+  iclap::write_labeled_cloud_ply(path, p, std::vector<std::uint32_t>{0, int32_max});
+  CHECK(slurp(path).find("\n0 0 0 2147483647 ") != std::string::npos);
+  // Narrow types take their whole range.
+  iclap::write_labeled_cloud_ply(path, p, std::vector<std::uint8_t>{0, 255});
+  CHECK(slurp(path).find("\n0 0 0 255 ") != std::string::npos);
+  iclap::write_labeled_cloud_ply(path, p, std::vector<std::int8_t>{0, -128});
+  CHECK(slurp(path).find("\n0 0 0 -128 ") != std::string::npos);
 }

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -60,6 +61,40 @@ inline std::array<std::uint8_t, 3> label_colour(long long label) {
   return {byte(r), byte(g), byte(b)};
 }
 
+namespace detail {
+
+/// True when the integer label `v` is in the int32 range, compared in its
+/// own type: a cast to long long first made std::uint64_t's largest value -1
+/// (accepted, and written as label -1).
+template <typename T>
+bool fits_int32(const T& v) {
+  if constexpr (std::is_integral_v<T>) {
+    if constexpr (std::is_unsigned_v<T>) {
+      using C = std::common_type_t<T, std::uint32_t>;
+      return static_cast<C>(v) <= static_cast<C>(std::numeric_limits<std::int32_t>::max());
+    } else {
+      using C = std::common_type_t<T, std::int32_t>;
+      return static_cast<C>(v) >= static_cast<C>(std::numeric_limits<std::int32_t>::min()) &&
+             static_cast<C>(v) <= static_cast<C>(std::numeric_limits<std::int32_t>::max());
+    }
+  } else {
+    // Another type convertible to an integer (an enum, say): as before.
+    const long long l = static_cast<long long>(v);
+    return l >= std::numeric_limits<std::int32_t>::min() && l <= std::numeric_limits<std::int32_t>::max();
+  }
+}
+
+/// `v` as text for an error message: an unsigned label as unsigned (not -1).
+template <typename T>
+std::string label_text(const T& v) {
+  if constexpr (std::is_integral_v<T> && std::is_unsigned_v<T>)
+    return std::to_string(static_cast<unsigned long long>(v));
+  else
+    return std::to_string(static_cast<long long>(v));
+}
+
+}  // namespace detail
+
 /// Writes a labeled point cloud as a PLY file through AtomicFileWriter (no
 /// partial file on failure): one `vertex` element per column of `positions`
 /// (3 x N, any unit, usually metres) with properties x, y, z (float32 in
@@ -101,9 +136,9 @@ void write_labeled_cloud_ply(const std::string& path, const Eigen::MatrixBase<De
       }
   }
   for (Eigen::Index i = 0; i < n; ++i) {
-    const long long l = static_cast<long long>(labels[static_cast<decltype(labels.size())>(i)]);
-    if (l < INT32_MIN || l > INT32_MAX)
-      throw InvalidArgument("labels", "label " + std::to_string(l) + " of point " + std::to_string(i) +
+    const auto& l = labels[static_cast<decltype(labels.size())>(i)];
+    if (!detail::fits_int32(l))
+      throw InvalidArgument("labels", "label " + detail::label_text(l) + " of point " + std::to_string(i) +
                                           " does not fit a PLY int");
   }
   for (const auto& c : options.comments)
