@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "iclap/data/overlap.hpp"
+#include "../support/errors.hpp"
 
 namespace {
 
@@ -189,23 +190,32 @@ TEST_CASE("exploration_overlap: a radius or a distance whose square leaves the d
   CHECK(far_apart(near_counts(1e300, 1e200)));
 }
 
-TEST_CASE("contact_frame_count, summarize and is_contact refuse a NaN or negative threshold, as exploration_overlap does" *
-          doctest::skip()) {
-  // dataset.hpp is_contact(const Frame&, threshold) compares maxCoeff() >
+TEST_CASE("contact_frame_count, summarize and is_contact refuse a NaN or negative threshold, as exploration_overlap does") {
+  // dataset.hpp is_contact(const Frame&, threshold) compared maxCoeff() >
   // threshold unchecked: a NaN threshold made every frame no contact (0
   // contact frames, silently) and a negative one made blank frames contacts.
   // exploration_overlap and the tactile is_contact / ContactDetector refuse
-  // both, naming "threshold".
+  // both, naming "threshold"; so do these now (inf too).
   iclap::Dataset ds;
   ds.rows = 2;
   ds.cols = 3;
   ds.frames = {frame("a", 0, 0, 0, 0, 100), frame("a", 0, 0.1, 0, 0, 0)};
   ds.frames[1].frame = 1;
-  for (const double bad : {std::nan(""), -1.0}) {
+  const iclap::Dataset no_frames;
+  for (const double bad : {std::nan(""), -1.0, std::numeric_limits<double>::infinity()}) {
     CAPTURE(bad);
-    CHECK_THROWS_AS((void)iclap::contact_frame_count(ds, bad), iclap::InvalidArgument);
-    CHECK_THROWS_AS((void)iclap::summarize(ds, bad), iclap::InvalidArgument);
-    CHECK_THROWS_AS((void)iclap::is_contact(ds.frames[0], bad), iclap::InvalidArgument);
-    CHECK_THROWS_AS((void)iclap::exploration_overlap(ds, 0.01, bad), iclap::InvalidArgument);
+    CHECK(iclap::test::argument_of([&] { (void)iclap::contact_frame_count(ds, bad); }) == "threshold");
+    CHECK(iclap::test::argument_of([&] { (void)iclap::summarize(ds, bad); }) == "threshold");
+    CHECK(iclap::test::argument_of([&] { (void)iclap::is_contact(ds.frames[0], bad); }) == "threshold");
+    CHECK(iclap::test::argument_of([&] { (void)iclap::exploration_overlap(ds, 0.01, bad); }) == "threshold");
+    // Refused before looking at any frame.
+    CHECK(iclap::test::argument_of([&] { (void)iclap::contact_frame_count(no_frames, bad); }) == "threshold");
+    CHECK(iclap::test::argument_of([&] { (void)iclap::summarize(no_frames, bad); }) == "threshold");
   }
+  // The edges of the accepted range: 0 (the pressed frame only; the blank
+  // one is at, not above, it) and the largest finite threshold (none).
+  CHECK(iclap::contact_frame_count(ds, 0.0) == 1);
+  CHECK_FALSE(iclap::is_contact(ds.frames[1], 0.0));
+  CHECK(iclap::summarize(ds, 0.0).at(0).contact_frames == 1);
+  CHECK(iclap::contact_frame_count(ds, std::numeric_limits<double>::max()) == 0);
 }

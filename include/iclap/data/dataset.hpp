@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "iclap/core/check.hpp"
 #include "iclap/core/types.hpp"
 
 namespace iclap {
@@ -48,13 +49,20 @@ struct Dataset {
 inline constexpr double kDefaultContactThreshold = 20.0;
 
 /// True when the frame's largest taxel pressure is above `threshold` (raw
-/// units). A frame without taxels is never a contact. O(taxels).
+/// units). A frame without taxels is never a contact. Throws InvalidArgument
+/// naming "threshold" unless it is finite and >= 0 (a NaN made no frame a
+/// contact, a negative one every blank frame), as exploration_overlap and
+/// the tactile is_contact do. O(taxels).
 inline bool is_contact(const Frame& f, double threshold = kDefaultContactThreshold) {
+  check_non_negative(threshold, "threshold");
   return f.pressures.size() > 0 && f.pressures.maxCoeff() > threshold;
 }
 
-/// Number of contact frames (see is_contact) in `ds`. O(frames x taxels).
+/// Number of contact frames (see is_contact) in `ds`. Throws InvalidArgument
+/// naming "threshold" unless it is finite and >= 0, even for a dataset
+/// without frames. O(frames x taxels).
 inline std::size_t contact_frame_count(const Dataset& ds, double threshold = kDefaultContactThreshold) {
+  check_non_negative(threshold, "threshold");
   return static_cast<std::size_t>(std::count_if(
       ds.frames.begin(), ds.frames.end(), [&](const Frame& f) { return is_contact(f, threshold); }));
 }
@@ -119,9 +127,12 @@ struct ObjectSummary {
   std::size_t contact_frames = 0;  ///< frames with max pressure > threshold
 };
 
-/// Per-object counts, objects in order of first appearance. O(frames x taxels).
+/// Per-object counts, objects in order of first appearance. Throws
+/// InvalidArgument naming "threshold" unless it is finite and >= 0, even for
+/// a dataset without frames. O(frames x taxels).
 inline std::vector<ObjectSummary> summarize(const Dataset& ds,
                                             double threshold = kDefaultContactThreshold) {
+  check_non_negative(threshold, "threshold");
   std::vector<ObjectSummary> out;
   for (const ObjectFrames& o : group_frames(ds)) {
     ObjectSummary s{o.name, {}, 0, 0};
