@@ -779,19 +779,37 @@ TEST_CASE("dataset csv appender: a second row of a frame is refused, naming the 
 // ---------------------------------------------------------------------------
 // Audit (session 50): defects found from a user's side, skipped until fixed.
 
-TEST_CASE("dataset csv: a stream that failed to open is an IoError, not a file without a header" * doctest::skip()) {
-  // csv_reader.hpp read_dataset_csv(std::istream&, name) checks only
+TEST_CASE("dataset csv: a stream that failed to open is an IoError, not a file without a header") {
+  // csv_reader.hpp read_dataset_csv(std::istream&, name) checked only
   // in.bad(): an std::ifstream that could not open the file (failbit only)
   // read as an empty text and gave ParseError "NAME:0: no header row (the
   // file has no columns)", sending the user to look for a header in a file
-  // that does not exist.
+  // that does not exist. A stream failed on entry is now an IoError naming
+  // the file, as the path overload reports a file it cannot open.
   const TempDir dir("csv_failed_stream");
   const std::string path = dir.file("missing.csv");
   std::ifstream in(path, std::ios::binary);
   REQUIRE_FALSE(in.is_open());
-  CHECK_THROWS_AS(iclap::read_dataset_csv(in, path), iclap::IoError);
-  // An open empty file is a file without a header, as before.
+  try {
+    (void)iclap::read_dataset_csv(in, path);
+    FAIL("accepted");
+  } catch (const iclap::IoError& e) {
+    CHECK(e.path() == path);
+    CHECK(std::string(e.what()).rfind(path + ": cannot open for reading", 0) == 0);
+  }
+  // The path overload says the same (with the system's reason).
+  try {
+    (void)iclap::read_dataset_csv(path);
+    FAIL("accepted");
+  } catch (const iclap::IoError& e) {
+    CHECK(std::string(e.what()).rfind(path + ": cannot open for reading", 0) == 0);
+  }
+  // An open empty file is a file without a header, as before; so is a
+  // stream already at its end (eofbit only: not failed).
   spit(dir.file("empty.csv"), "");
   std::ifstream empty(dir.file("empty.csv"), std::ios::binary);
   CHECK_THROWS_AS(iclap::read_dataset_csv(empty, "empty.csv"), iclap::ParseError);
+  std::istringstream at_end("");
+  at_end.setstate(std::ios::eofbit);
+  CHECK_THROWS_AS(iclap::read_dataset_csv(at_end, "end.csv"), iclap::ParseError);
 }

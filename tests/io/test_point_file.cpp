@@ -108,14 +108,31 @@ TEST_CASE("point files: the line of every point") {
 // ---------------------------------------------------------------------------
 // Audit (session 50): defects found from a user's side, skipped until fixed.
 
-TEST_CASE("point file: a stream that failed to open is an IoError, not a file without points" * doctest::skip()) {
-  // point_file.hpp read_point_file(std::istream&, name) checks only
+TEST_CASE("point file: a stream that failed to open is an IoError, not a file without points") {
+  // point_file.hpp read_point_file(std::istream&, name) checked only
   // in.bad(): an std::ifstream that could not open its file (failbit only)
-  // gave ParseError "NAME:0: no points in the file".
+  // gave ParseError "NAME:0: no points in the file". A stream failed on
+  // entry is now an IoError naming the file, as the path overload reports a
+  // file it cannot open.
   const std::string path = "/nonexistent-iclap-directory/points.txt";
   std::ifstream in(path);
   REQUIRE_FALSE(in.is_open());
-  CHECK_THROWS_AS(read_point_file(in, path), IoError);
-  // An open stream without points is still a ParseError.
+  try {
+    (void)read_point_file(in, path);
+    FAIL("accepted");
+  } catch (const IoError& e) {
+    CHECK(e.path() == path);
+    CHECK(std::string(e.what()).rfind(path + ": cannot open", 0) == 0);
+  }
+  // A stream with badbit set before the read, too.
+  std::istringstream bad("1 2 3\n");
+  bad.setstate(std::ios::badbit);
+  CHECK_THROWS_AS(read_point_file(bad, "bad.txt"), IoError);
+  // An open stream without points is still a ParseError, and one already at
+  // its end (eofbit only) reads as empty, not as failed.
   CHECK(error_of("# nothing\n") == "pts.txt:1: no points in the file");
+  CHECK(error_of("") == "pts.txt:0: no points in the file");
+  std::istringstream at_end("");
+  at_end.setstate(std::ios::eofbit);
+  CHECK_THROWS_AS(read_point_file(at_end, "end.txt"), ParseError);
 }

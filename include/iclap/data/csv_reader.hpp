@@ -280,9 +280,14 @@ inline Dataset parse_dataset_csv(std::string_view text, const std::string& name,
 /// file name or "<stdin>"). Throws ParseError("name", line, reason) on any
 /// malformed input and returns nothing partial; `on_warning` (optional) is
 /// called with each warning, in file order, only if the read succeeds.
-/// CRLF line endings and a UTF-8 byte-order mark are accepted. O(file size).
+/// CRLF line endings and a UTF-8 byte-order mark are accepted. Throws
+/// IoError naming `name` when `in` is already failed on entry (an
+/// std::ifstream that could not open its file: it read as an empty text, a
+/// ParseError "no header row") or a read fails; an open, empty stream is a
+/// ParseError. O(file size).
 inline Dataset read_dataset_csv(std::istream& in, const std::string& name,
                                 const DatasetWarningHandler& on_warning = {}) {
+  if (!in) throw IoError(name, "cannot open for reading (the stream failed before the first read)");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw IoError(name, "read failed");
   std::vector<DatasetWarning> warnings;

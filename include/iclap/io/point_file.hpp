@@ -33,8 +33,12 @@ namespace iclap {
 /// column count or a file without points; nothing partial is returned.
 /// With `lines`, it receives the 1-based line number of each point (for
 /// messages about a point found later, e.g. a value out of range).
+/// Throws IoError naming `name` when `in` is already failed on entry (an
+/// std::ifstream that could not open its file: it read as a file without
+/// points) or a read fails; an open stream without points is a ParseError.
 inline Eigen::MatrixXd read_point_file(std::istream& in, const std::string& name,
                                        std::vector<std::size_t>* lines = nullptr) {
+  if (!in) throw IoError(name, "cannot open (the stream failed before the first read)");
   std::vector<double> values;
   std::vector<std::size_t> point_lines;
   std::size_t dim = 0, count = 0, line_no = 0;
