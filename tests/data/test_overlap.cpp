@@ -160,19 +160,19 @@ TEST_CASE("exploration_overlap: empty input, explorations without contacts, bad 
 // ---------------------------------------------------------------------------
 // Audit (session 50): defects found from a user's side, skipped until fixed.
 
-TEST_CASE("exploration_overlap: a radius or a distance whose square leaves the double range keeps its meaning" *
-          doctest::skip()) {
+TEST_CASE("exploration_overlap: a radius or a distance whose square leaves the double range keeps its meaning") {
   // overlap.hpp compares squared distances with r2 = radius * radius. For
-  // radius 1e-200 both underflow to 0, so contacts 2e-200 apart (twice the
+  // radius 1e-200 both underflowed to 0, so contacts 2e-200 apart (twice the
   // radius) counted as near; for radius 1e200 and contacts 1e300 apart
-  // (positions the reader accepts: any finite value) both overflow to inf,
-  // and inf <= inf counted them as near too. An accepted radius must keep
-  // its meaning, or be refused naming "radius".
-  const auto near_counts = [](double x1, double radius) {
+  // (positions the reader accepts: any finite value) both overflowed to inf,
+  // and inf <= inf counted them as near too. A radius whose square leaves
+  // the double range is now refused naming "radius"; inside the range an
+  // accepted radius keeps its meaning for any finite positions.
+  const auto near_counts = [](double x1, double radius, double x0) {
     iclap::Dataset ds;
     ds.rows = 2;
     ds.cols = 3;
-    ds.frames = {frame("a", 0, radius, 0, 0, 100), frame("a", 1, x1, 0, 0, 100)};
+    ds.frames = {frame("a", 0, x0, 0, 0, 100), frame("a", 1, x1, 0, 0, 100)};
     std::string refused = "(no error)";
     std::vector<iclap::ExplorationOverlap> r;
     try {
@@ -184,10 +184,34 @@ TEST_CASE("exploration_overlap: a radius or a distance whose square leaves the d
     REQUIRE(r.size() == 2);
     return std::to_string(r[0].near) + " " + std::to_string(r[1].near);
   };
-  const auto far_apart = [](const std::string& outcome) { return outcome == "0 0" || outcome == "radius"; };
-  CHECK(near_counts(3e-100, 1e-100) == "0 0");  // in range: 2 radii apart, not near
-  CHECK(far_apart(near_counts(3e-200, 1e-200)));
-  CHECK(far_apart(near_counts(1e300, 1e200)));
+  CHECK(near_counts(3e-100, 1e-100, 1e-100) == "0 0");  // in range: 2 radii apart, not near
+  CHECK(near_counts(3e-200, 1e-200, 1e-200) == "radius");
+  CHECK(near_counts(1e300, 1e200, 1e200) == "radius");
+  // The range's ends (powers of two times the radius are exact, so "at the
+  // radius" is exactly at it) and just beyond them.
+  const double lo = iclap::smallest_spread<double>(), hi = iclap::largest_coordinate<double>();
+  CHECK(near_counts(2 * lo, lo, lo) == "1 1");  // at the radius: near
+  CHECK(near_counts(3 * lo, lo, lo) == "0 0");
+  CHECK(near_counts(2 * hi, hi, hi) == "1 1");
+  CHECK(near_counts(3 * hi, hi, hi) == "0 0");
+  CHECK(near_counts(2 * lo, std::nextafter(lo, 0.0), lo) == "radius");
+  CHECK(near_counts(2 * hi, std::nextafter(hi, 2 * hi), hi) == "radius");
+  // Inside the range any finite positions keep the meaning: squares that
+  // overflow are beyond the radius, squares that underflow within it.
+  CHECK(near_counts(1e300, hi, -1e300) == "0 0");                       // 2e300 apart: inf
+  CHECK(near_counts(std::numeric_limits<double>::max(), hi, -std::numeric_limits<double>::max()) == "0 0");
+  CHECK(near_counts(1e300, lo, 1e300) == "1 1");                        // same place, far out
+  CHECK(near_counts(2e-300, lo, 1e-300) == "1 1");                      // 1e-300 apart: 0 squared
+  CHECK(near_counts(1.0, 1e-3, 1.0 + 0x1p-52) == "1 1");                // an ulp apart at 1 m
+  // The message names the range.
+  try {
+    iclap::Dataset ds;
+    ds.frames = {frame("a", 0, 0, 0, 0, 100)};
+    (void)iclap::exploration_overlap(ds, 1e-200);
+    FAIL("accepted");
+  } catch (const iclap::InvalidArgument& e) {
+    CHECK(std::string(e.what()).find("1e-200 m is outside [6.7") != std::string::npos);
+  }
 }
 
 TEST_CASE("contact_frame_count, summarize and is_contact refuse a NaN or negative threshold, as exploration_overlap does") {

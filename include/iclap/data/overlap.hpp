@@ -41,14 +41,28 @@ struct ExplorationOverlap {
 /// explorations counts as it lay. An exploration without contacts has
 /// contacts = near = 0; an object with one exploration has near = 0.
 ///
-/// Throws InvalidArgument naming `radius` unless it is finite and positive,
-/// or `threshold` unless it is finite and >= 0, and NonFiniteValue naming
-/// `frames[i].position` for a contact frame i at a NaN or infinite position.
-/// One kd-tree per exploration:
+/// Distances are compared squared, so `radius` must lie in
+/// [smallest_spread<double>(), largest_coordinate<double>()] (about 6.7e-139
+/// to 1.34e150 m, see check.hpp), where radius^2 is a normal double far from
+/// overflow: then "within `radius`" holds for any finite positions (a
+/// squared distance that overflows is beyond the radius, one that underflows
+/// within it). Outside it radius^2 underflowed to 0 (radius 1e-200: contacts
+/// twice the radius apart counted as near) or overflowed to inf (radius
+/// 1e200: contacts 1e300 apart counted as near).
+///
+/// Throws InvalidArgument naming `radius` unless it is finite, positive and
+/// in that range, or `threshold` unless it is finite and >= 0, and
+/// NonFiniteValue naming `frames[i].position` for a contact frame i at a NaN
+/// or infinite position. One kd-tree per exploration:
 /// O(E n log n) per object of E explorations and n contact frames.
 inline std::vector<ExplorationOverlap> exploration_overlap(const Dataset& ds, double radius,
                                                            double threshold = kDefaultContactThreshold) {
   check_positive(radius, "radius");
+  const double smallest_radius = smallest_spread<double>(), largest_radius = largest_coordinate<double>();
+  if (radius < smallest_radius || radius > largest_radius)
+    throw InvalidArgument("radius", format_value(radius) + " m is outside [" + format_value(smallest_radius) + ", " +
+                                        format_value(largest_radius) +
+                                        "] m, where its square stays in the double range; rescale the positions");
   check_non_negative(threshold, "threshold");
   const double r2 = radius * radius;
 
