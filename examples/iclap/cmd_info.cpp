@@ -20,6 +20,11 @@ int run_info(const iclap::cli::Args& args) {
   opt.expect_positional(1, 1, "one dataset file");
   const double threshold = opt.number("threshold", iclap::kDefaultContactThreshold, 0.0);
   const double overlap_mm = opt.number("overlap", 0.0, 0.0, 1e6);
+  // exploration_overlap's smallest radius, refused before anything is printed.
+  if (overlap_mm > 0 && overlap_mm * 1e-3 < iclap::smallest_spread<double>())
+    throw UsageError("--overlap: " + iclap::format_value(overlap_mm) + " mm is below the smallest radius, " +
+                     iclap::format_value(iclap::smallest_spread<double>() * 1e3) +
+                     " mm (squared distances would underflow); 0 turns the overlap off");
   const std::string path = opt.positional()[0];
   const iclap::Dataset ds = iclap::read_dataset_csv(path, [](const iclap::DatasetWarning& w) {
     std::fprintf(stderr, "%s\n", w.to_string().c_str());

@@ -63,6 +63,19 @@ TEST_CASE("touch table: each contact frame is a touch with its object, explorati
   CHECK(t.select({2, 0}).idle_frames == 0);
 }
 
+TEST_CASE("touch table: a NaN, infinite or negative contact threshold is refused under its own name") {
+  // A NaN made no frame a contact, a negative one every blank frame
+  // (is_contact now refuses both as "threshold"; the caller's name is
+  // contact_threshold).
+  const Dataset ds = wts_dataset({frame("a", 0, 0, 90.0), frame("a", 0, 1, 0.0)});
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), -1.0, std::numeric_limits<double>::infinity()}) {
+    CAPTURE(bad);
+    CHECK(test::argument_of([&] { (void)make_touch_table(ds, RawPressures<float>{}, bad); }) == "contact_threshold");
+  }
+  // 0 is a threshold: every frame with a pressed taxel is a contact.
+  CHECK(make_touch_table(ds, RawPressures<float>{}, 0.0).size() == 1);
+}
+
 TEST_CASE("touch table: validate names a bad object index and a part of the wrong length") {
   const TouchTable t =
       make_touch_table(wts_dataset({frame("a", 0, 0, 90.0), frame("b", 0, 1, 90.0)}), RawPressures<float>{}, 20.0);

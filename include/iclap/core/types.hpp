@@ -23,6 +23,22 @@ using Point = Eigen::Matrix<Scalar, Dim, 1>;
 template <typename Scalar, int Dim>
 using SquareMatrix = Eigen::Matrix<Scalar, Dim, Dim>;
 
+namespace detail {
+
+/// a < b for integers of any two types, compared by value (C++20's
+/// std::cmp_less): a negative signed value is less than every unsigned one,
+/// and SIZE_MAX is not -1. For range checks of ids and labels of a user's
+/// integer type.
+template <typename A, typename B>
+constexpr bool cmp_less(A a, B b) noexcept {
+  static_assert(std::is_integral_v<A> && std::is_integral_v<B>, "iclap: cmp_less compares integers");
+  if constexpr (std::is_signed_v<A> == std::is_signed_v<B>) return a < b;
+  else if constexpr (std::is_signed_v<A>) return a < 0 || static_cast<std::make_unsigned_t<A>>(a) < b;
+  else return b >= 0 && a < static_cast<std::make_unsigned_t<B>>(b);
+}
+
+}  // namespace detail
+
 /// Accumulation type for sums over many points: double for float inputs
 /// (so long sums keep their precision), the scalar itself otherwise.
 template <typename Scalar>

@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 
 #include "iclap/core/error.hpp"
+#include "iclap/core/types.hpp"
 #include "iclap/data/csv_common.hpp"
 #include "iclap/io/atomic_file.hpp"
 
@@ -69,14 +70,7 @@ namespace detail {
 template <typename T>
 bool fits_int32(const T& v) {
   if constexpr (std::is_integral_v<T>) {
-    if constexpr (std::is_unsigned_v<T>) {
-      using C = std::common_type_t<T, std::uint32_t>;
-      return static_cast<C>(v) <= static_cast<C>(std::numeric_limits<std::int32_t>::max());
-    } else {
-      using C = std::common_type_t<T, std::int32_t>;
-      return static_cast<C>(v) >= static_cast<C>(std::numeric_limits<std::int32_t>::min()) &&
-             static_cast<C>(v) <= static_cast<C>(std::numeric_limits<std::int32_t>::max());
-    }
+    return !cmp_less(v, std::numeric_limits<std::int32_t>::min()) && !cmp_less(std::numeric_limits<std::int32_t>::max(), v);
   } else {
     // Another type convertible to an integer (an enum, say): as before.
     const long long l = static_cast<long long>(v);

@@ -168,7 +168,8 @@ inline Index append_free_points(const Frame& frame, double threshold, double pit
 /// (`append_contact_points`, `append_free_points`, pitch from
 /// `taxel_pitch_of`); when every
 /// contact frame has an orientation, the pad normals (`TouchSet::normals`).
-/// Throws EmptyInput naming "dataset" when no frame is a contact, and what
+/// Throws InvalidArgument naming "contact_threshold" unless it is finite
+/// and >= 0, EmptyInput naming "dataset" when no frame is a contact, and what
 /// taxel_pitch_of throws when a contact frame has an orientation. What the
 /// descriptor returns is checked as extract_features checks it, naming the
 /// frame (`dataset.frames[I]`): its plain InvalidArgument about "image"
@@ -182,6 +183,7 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
                             double contact_threshold = kDefaultContactThreshold,
                             const ProgressCallback& progress = {}) {
   ICLAP_CHECK_DESCRIPTOR(Descriptor);
+  check_non_negative(contact_threshold, "contact_threshold");
   TouchTable t;
   std::map<std::string, Index> index;
   std::vector<std::size_t> kept;

@@ -52,9 +52,7 @@ namespace detail {
 /// (std::to_string(id)).
 template <typename Int>
 constexpr bool id_in_range(Int id, Index n) noexcept {
-  static_assert(std::is_integral_v<Int>, "iclap: ids are integers");
-  if constexpr (std::is_signed_v<Int>) return id >= 0 && static_cast<long long>(id) < static_cast<long long>(n);
-  else return static_cast<unsigned long long>(id) < static_cast<unsigned long long>(n);
+  return !cmp_less(id, 0) && cmp_less(id, n);
 }
 
 template <typename Q, typename F, typename = void>
