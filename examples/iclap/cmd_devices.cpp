@@ -4,7 +4,9 @@
 // and the HID devices (pedals, buttons, bridges) hidapi can open.
 
 #include <cstdio>
+#include <filesystem>
 #include <string>
+#include <system_error>
 
 #include "cli.hpp"
 #include "iclap/rig/serial_enumeration.hpp"
@@ -23,7 +25,8 @@ const char* const kUsage =
     "/dev/ttyACM*, also /dev/ttyUSB* and the stable /dev/serial/by-id names)\n"
     "and the HID devices found by hidapi (foot pedals, stylus buttons,\n"
     "microcontroller bridges). The sensor itself is not a HID device.\n"
-    "Says so plainly when nothing is found; exit status 0 either way.\n"
+    "Says so plainly when nothing is found; exit status 0 either way (but 2 when\n"
+    "--dev-root names no directory).\n"
     "\n"
     "  --serial-only    list serial ports only\n"
     "  --hid-only       list HID devices only\n"
@@ -70,7 +73,13 @@ int run_devices(const Args& args) {
   o.expect_positional(0, 0, "no positional arguments");
   if (o.flag("serial-only") && o.flag("hid-only"))
     throw UsageError("--serial-only and --hid-only exclude each other");
-  if (!o.flag("hid-only")) list_serial(o.string("dev-root", "/dev"));
+  const std::string root = o.string("dev-root", "/dev");
+  // A --dev-root that is no directory (a typo) must not read as "none
+  // found", which says the devices are absent.
+  std::error_code ec;
+  if (o.has("dev-root") && !std::filesystem::is_directory(root, ec))
+    throw UsageError("--dev-root " + iclap::quote_text(root, 200) + " is not a directory");
+  if (!o.flag("hid-only")) list_serial(root);
   if (!o.flag("serial-only")) {
 #ifdef ICLAP_HAVE_HIDAPI
     list_hid();
