@@ -89,7 +89,7 @@ const std::string kUsage = std::string(
     "                          parents, if needed, and checked before the run); the files\n"
     "                          are moved into it only once all of them are written, and a\n"
     "                          run that fails leaves it as it was\n"
-    "  --sim-seed S            seed of the built-in simulation (default 1)\n"
+    "  --sim-seed S            seed of the built-in simulation (default 1; not with a FILE)\n"
     "  --export-ply            also write each object's reference cloud (all its touches,\n"
     "                          label = word of a codebook fitted on all touches) as\n"
     "                          DIR/references/OBJECT.ply (bytes other than letters,\n"
@@ -720,6 +720,10 @@ int run_evaluate(const Args& args) {
   }
   if (!opt.positional().empty()) check_input_not_replaced(opt.positional()[0], out);
   const auto sim_seed = static_cast<std::uint64_t>(opt.integer("sim-seed", 1, 0));
+  // Nothing is simulated for a dataset FILE: a seed given with one would be
+  // ignored without a word.
+  if (opt.has("sim-seed") && !opt.positional().empty())
+    throw UsageError("--sim-seed seeds the built-in simulation; it does not apply to a dataset FILE");
 
   const std::vector<std::string> needed = needed_classifiers(named);
   // --trim auto (one classifier variant per fraction) and lists of occupancy
