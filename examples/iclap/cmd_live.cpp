@@ -346,9 +346,15 @@ struct LiveSource {
   std::string port_path;
 };
 
-SimObject simulation_object(const std::string& spec, const std::string& unit) {
+SimObject simulation_object(const std::string& spec, const std::string& unit, bool unit_given) {
   const auto names = builtin_object_names();
-  if (std::find(names.begin(), names.end(), spec) != names.end()) return builtin_object(spec);
+  if (std::find(names.begin(), names.end(), spec) != names.end()) {
+    // A built-in object has its own size: a --unit would be ignored.
+    if (unit_given)
+      throw UsageError("--unit gives the unit of a mesh file; the built-in object " + quote_text(spec) +
+                       " has its own size");
+    return builtin_object(spec);
+  }
   if (is_mesh_file(spec)) {
     // The file first: a path that does not exist (or is no mesh) is named
     // as such, not as a file that meshes.json fails to list.
@@ -434,7 +440,7 @@ LiveSource make_source(const Options& o) {
   if (o.has("simulate")) {
     const auto seed = static_cast<std::uint64_t>(o.integer("sim-seed", 1, 0));
     const std::int64_t exploration = o.integer("exploration", 5, 0);
-    SimObject object = simulation_object(o.string("simulate"), o.choice("unit", {"auto", "m", "mm"}, "auto"));
+    SimObject object = simulation_object(o.string("simulate"), o.choice("unit", {"auto", "m", "mm"}, "auto"), o.has("unit"));
     s.truth = object.name;
     SimulationSettings simulation;
     parse_simulation_options(o, simulation.exploration);

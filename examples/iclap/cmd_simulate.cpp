@@ -79,6 +79,11 @@ int run_simulate(const iclap::cli::Args& args) {
     if (objects_arg != "builtin") check_out_is_no_input(out, objects_arg);
   }
 
+  // The built-in objects have their own size: a --unit with them would be
+  // ignored without a word.
+  if (objects_arg == "builtin" && opt.has("unit"))
+    throw UsageError("--unit gives the unit of mesh files (--objects DIR); the built-in objects have their own size");
+
   std::vector<iclap::SimObject> objects;
   if (objects_arg == "builtin") {
     objects = iclap::builtin_objects();
@@ -121,7 +126,7 @@ ICLAP_COMMAND("simulate", "write a simulated dataset of the WTS/Omni rig (built-
               "  --objects DIR      every .obj/.stl/.ply in DIR, named after its file stem, put in\n"
               "                     a stable resting pose on the table\n"
               "  --unit U           unit of the mesh files: m, mm, or auto (default): each file's\n"
-              "                     scale_to_metres from DIR/meshes.json\n"
+              "                     scale_to_metres from DIR/meshes.json (only with --objects DIR)\n"
               "  --explorations N   explorations per object (default 5)\n"
               "  --seed S           seed of all randomness (default 1); same seed and options give\n"
               "                     byte-identical files\n"
