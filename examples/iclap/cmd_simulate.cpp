@@ -91,7 +91,12 @@ int run_simulate(const iclap::cli::Args& args) {
     std::optional<iclap::LengthUnit> u;
     if (unit != "auto") u = iclap::parse_length_unit(unit, "--unit");
     Progress loading("loading meshes");
-    objects = iclap::load_mesh_objects(objects_arg, u, std::ref(loading));
+    // The loader names its arguments "dir" and "unit"; the user gave them as
+    // --objects and --unit.
+    objects = iclap::rename_argument("dir", "--objects", [&] {
+      return iclap::rename_argument("unit", "--unit",
+                                    [&] { return iclap::load_mesh_objects(objects_arg, u, std::ref(loading)); });
+    });
   }
   iclap::Dataset ds;
   {
