@@ -252,6 +252,21 @@ class Options {
   std::set<std::string> flags_;
 };
 
+/// UsageError naming option `name` (its value as given, `text`) when `v`,
+/// read into a float (an ICP of --scalar float), would not mean what it
+/// says: beyond the float range it becomes inf, and a nonzero value below
+/// the smallest float becomes 0 (for --relative-tolerance, "no relative
+/// stop"). 0 itself passes; so do float subnormals, which keep a value.
+inline void check_float_value(const std::string& name, const std::string& text, double v) {
+  if (std::abs(v) > static_cast<double>(std::numeric_limits<float>::max()))
+    throw UsageError("--" + name + ": " + text + " is beyond the range of --scalar float (|v| <= " +
+                     format_value(static_cast<double>(std::numeric_limits<float>::max())) +
+                     "); use --scalar double");
+  if (v != 0 && static_cast<float>(v) == 0)
+    throw UsageError("--" + name + ": " + text + " is too small for --scalar float (it would be 0); give 0 for 0, " +
+                     "or use --scalar double");
+}
+
 /// A thread-safe progress line on stderr, shown only when stderr is a
 /// terminal (so logs and CI output stay clean). Use as an
 /// iclap::ProgressCallback.

@@ -40,7 +40,9 @@ const char* const kUsage =
     "                       for larger ones; the result is the same, only the time differs\n"
     "  --max-iterations N      iteration cap (default 50)\n"
     "  --tolerance E           stop when the error E <= E (default 0: exact fit only)\n"
-    "  --relative-tolerance R  stop when the relative change of E < R (default 1e-6)\n"
+    "  --relative-tolerance R  stop when the relative change of E < R (default 1e-6; 0:\n"
+    "                       never; with --scalar float at most 3.4e38 and not so small\n"
+    "                       that it becomes 0)\n"
     "  --weights w1,w2,...     per-axis scale of the metric, one per column (default 1)\n"
     "  --max-distance D        drop pairs farther apart than D (default: none)\n"
     "  --trim F                keep the closest fraction F of the pairs (default 1)\n"
@@ -193,6 +195,10 @@ int run_register(const iclap::cli::Args& args) {
   q.max_iterations = static_cast<int>(opt.integer("max-iterations", 50, 0, 1000000));
   q.tolerance = opt.number("tolerance", 0.0);
   q.relative_tolerance = opt.number("relative-tolerance", 1e-6, 0.0);
+  // A float ICP holds it as a float: too small a value would become 0 (no
+  // relative stop), too large one inf.
+  if (q.scalar == "float" && opt.has("relative-tolerance"))
+    iclap::cli::check_float_value("relative-tolerance", opt.string("relative-tolerance"), q.relative_tolerance);
   q.has_max_distance = opt.has("max-distance");
   q.max_distance = opt.number("max-distance", 0.0);
   if (q.has_max_distance && !(q.max_distance > 0)) throw UsageError("--max-distance must be > 0");

@@ -333,7 +333,9 @@ struct RecognitionOptions {
            "                          references by brute force and builds kd-trees for the\n"
            "                          others; the answers are the same, only the time differs\n"
            "  --max-iterations N      ICP iteration cap (default 50)\n"
-           "  --relative-tolerance R  ICP relative-change stop (default 1e-6)\n"
+           "  --relative-tolerance R  ICP relative-change stop (default 1e-6; 0: none); with\n"
+           "                          --scalar float at most 3.4e38, and not so small that it\n"
+           "                          becomes 0\n"
            "  --trim F|NAME=F,...     trimmed ICP: the distance and the motion use the closest\n"
            "                          fraction F of the pairs, in (0, 1]; F alone for every\n"
            "                          registration classifier, NAME=F for one (e.g. patch=0.5);\n"
@@ -430,6 +432,10 @@ struct RecognitionOptions {
     contact_threshold = o.number("contact-threshold", contact_threshold, 0.0);
     patch_points = static_cast<Index>(o.integer("patch-points", patch_points, 1, 84 * 100));
     patch_voxel = o.number("patch-voxel", patch_voxel, 0.0, 1.0);
+    // The float ICP holds it as a float: refused here, naming the option,
+    // rather than as inf in the middle of the run or as 0 (no relative stop).
+    if (scalar == "float" && o.has("relative-tolerance"))
+      check_float_value("relative-tolerance", o.string("relative-tolerance"), relative_tolerance);
     parse_occupancy(o);
   }
 

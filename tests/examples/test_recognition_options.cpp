@@ -282,3 +282,18 @@ TEST_CASE("--trim-choices: every choice is a variant of its own, with the fracti
     CHECK(ro.trim_of(variants[1]) == 0.3333332);
   }
 }
+
+// Found by the session-50 audit: the float ICP (the default --scalar) holds
+// --relative-tolerance as a float, so 1e300 became inf (refused in the
+// middle of the run, naming the dataset) and 1e-50 became 0 (no relative
+// stop at all). Both are refused naming the option; 0 (no relative stop) and
+// a float subnormal (a value still) pass, and so does either in double.
+TEST_CASE("--relative-tolerance: a value that float would make inf or 0 is refused with --scalar float") {
+  CHECK(usage_error({"--relative-tolerance", "1e300"}).rfind("--relative-tolerance: 1e300 is beyond the range of --scalar float", 0) == 0);
+  CHECK(usage_error({"--relative-tolerance", "1e-50"}).rfind("--relative-tolerance: 1e-50 is too small for --scalar float", 0) == 0);
+  CHECK(parsed({"--relative-tolerance", "0"}).relative_tolerance == 0);
+  CHECK(parsed({"--relative-tolerance", "1e-40"}).relative_tolerance == 1e-40);
+  CHECK(parsed({"--relative-tolerance", "3e38"}).relative_tolerance == 3e38);
+  CHECK(parsed({"--scalar", "double", "--relative-tolerance", "1e300"}).relative_tolerance == 1e300);
+  CHECK(parsed({"--scalar", "double", "--relative-tolerance", "1e-50"}).relative_tolerance == 1e-50);
+}
