@@ -344,7 +344,9 @@ struct RecognitionOptions {
            "  --trim-choices LIST     fractions --trim auto chooses from (default 1,0.7,0.5,0.3)\n"
            "  --contact-threshold P   a frame is a touch when a taxel exceeds P raw units\n"
            "  --patch-points N        contact points per test touch for patch, iclap_patch (default 8)\n"
-           "  --patch-voxel V         reference voxel for patch, iclap_patch, metres (default 0.002)\n"
+           "  --patch-voxel V         reference voxel for patch, iclap_patch, metres, in [0, 1]\n"
+           "                          (default 0.002): a reference's contact points averaged per\n"
+           "                          V cube; 0 keeps every point\n"
            "  --occupancy-voxel M     lattice spacing of occupancy's distance fields, metres, in\n"
            "                          [0.00025, 0.1] (default 0.001; memory grows up to as 1/M^3)\n"
            "  --occupancy-truncation M  largest distance occupancy charges a contact point,\n"
@@ -808,7 +810,9 @@ inline bool reads_positions(const std::vector<std::string>& needed) {
 /// touch must also lie within the range of its distance fields
 /// (TruncatedDistanceField::kMaxCoordinateVoxels voxels of
 /// --occupancy-voxel: 1e5 m at 1 mm), which the fields would otherwise
-/// refuse in the middle of the run.
+/// refuse in the middle of the run. With a patch classifier, the points a
+/// reference averages per --patch-voxel cube must lie within 2^62 voxels of
+/// the origin (a UsageError naming --patch-voxel otherwise).
 inline void check_positions(const std::vector<std::string>& needed, const TouchTable& table,
                             const RecognitionOptions& ro, const std::string& origin) {
   if (!reads_positions(needed)) return;
@@ -820,6 +824,30 @@ inline void check_positions(const std::vector<std::string>& needed, const TouchT
   for (Index i = 0; i < table.size(); ++i) {
     const std::string problem = position_problem(table.touches.positions.col(i), ro);
     if (!problem.empty()) throw InvalidArgument(origin, touch(i) + problem);
+  }
+  // The patch classifiers average a reference's points per --patch-voxel
+  // cube, indexed by floor(coordinate / voxel), which must stay below 2^62
+  // (the library's ContactEmbedding refuses more in the middle of the run,
+  // naming its "reference_voxel"): the points it indexes are a touch's
+  // contact points, or its position when it has none.
+  const bool patch = std::find(needed.begin(), needed.end(), "patch") != needed.end() ||
+                     std::find(needed.begin(), needed.end(), "iclap_patch") != needed.end();
+  if (patch && ro.patch_voxel > 0) {
+    const TouchSet& s = table.touches;
+    auto check_cell = [&](Index i, double coordinate) {
+      if (!(std::abs(std::floor(coordinate / ro.patch_voxel)) < 0x1p62))
+        throw UsageError("--patch-voxel " + format_value(ro.patch_voxel) + ": " + origin + ": " + touch(i) +
+                         "coordinate " + format_value(coordinate) + " m is beyond 2^62 voxels from the origin; " +
+                         "use a larger voxel, or 0 for none");
+    };
+    for (Index i = 0; i < table.size(); ++i) {
+      const Index m = s.contacts_of(i);
+      for (Index r = 0; r < 3; ++r) {
+        if (m == 0) check_cell(i, s.positions(r, i));
+        for (Index j = 0; j < m; ++j)
+          check_cell(i, s.contact_points(r, s.contact_offsets[static_cast<std::size_t>(i)] + j));
+      }
+    }
   }
   if (std::find(needed.begin(), needed.end(), "occupancy") == needed.end()) return;
   const double limit = TruncatedDistanceField::kMaxCoordinateVoxels * ro.occupancy_voxel;
