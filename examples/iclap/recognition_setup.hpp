@@ -199,12 +199,17 @@ struct RecognitionOptions {
     return out;
   }
 
-  /// The trimmed fraction of classifier `name` (or of a trim variant, whose
-  /// name says it).
+  /// The trimmed fraction of classifier `name` (or of a trim variant: the
+  /// choice it was named after, exactly as given; its name holds the
+  /// percentage to 6 digits only).
   double trim_of(const std::string& name) const {
     std::string base;
     double f = 1;
-    if (split_trim_variant(name, base, f)) return f;
+    if (split_trim_variant(name, base, f)) {
+      for (double choice : trim_choices)
+        if (trim_variant(base, choice) == name) return choice;
+      return f;
+    }
     const auto it = trim_by_name.find(name);
     return it == trim_by_name.end() ? trim : it->second;
   }
@@ -341,7 +346,9 @@ struct RecognitionOptions {
            "                          registration classifier, NAME=F for one (e.g. patch=0.5);\n"
            "                          F = auto: chosen among --trim-choices on the training folds\n"
            "                          (evaluate only); default 1: all pairs, the paper's\n"
-           "  --trim-choices LIST     fractions --trim auto chooses from (default 1,0.7,0.5,0.3)\n"
+           "  --trim-choices LIST     fractions --trim auto chooses from (default 1,0.7,0.5,0.3;\n"
+           "                          distinct in their percentages' first 6 digits, which name\n"
+           "                          the variants: 0.5 is patch-trim50)\n"
            "  --contact-threshold P   a frame is a touch when a taxel exceeds P raw units\n"
            "  --patch-points N        contact points per test touch for patch, iclap_patch (default 8)\n"
            "  --patch-voxel V         reference voxel for patch, iclap_patch, metres, in [0, 1]\n"
@@ -428,6 +435,15 @@ struct RecognitionOptions {
     if (o.has("trim")) parse_trim(o.string("trim"));
     if (o.has("trim-choices")) {
       trim_choices = bounded_list(o, "trim-choices", 1, 0, true, 1);
+      // Every choice is a classifier variant named by its percentage to 6
+      // digits (trim_variant: the names in the results), so two choices
+      // closer than that would be one name.
+      for (std::size_t i = 0; i < trim_choices.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+          if (trim_variant("", trim_choices[i]) == trim_variant("", trim_choices[j]))
+            throw UsageError("--trim-choices: " + format_exact(trim_choices[j]) + " and " +
+                             format_exact(trim_choices[i]) +
+                             " are the same percentage to 6 digits, which names a choice's variant");
       if (!trim_auto && trim_auto_by_name.empty())
         throw UsageError("--trim-choices needs --trim auto or --trim NAME=auto");
     }

@@ -258,17 +258,17 @@ TEST_CASE("lists of settings: up to 256 combinations are variants; a combination
                    0) == 0);
 }
 
-// Defect found by the session-50 audit, skipped until fixed: --trim-choices
-// that differ only past the 6th significant digit are accepted as distinct,
-// but trim_variant() names a variant with %g of the percentage, so both
-// become "icp-trim33_3333": `iclap evaluate FILE --trim auto --trim-choices
-// 0.3333331,0.3333332` then fails after reading FILE, naming the dataset
-// ("FILE: classifiers: two classifiers are named 'icp-trim33_3333'"), not
-// the option; and a variant's fraction, read back from its name by
-// trim_of(), is the rounded 0.333333, not the fraction given. Either the
-// choices are refused naming --trim-choices, or every choice is a variant
-// of its own with the fraction given.
-TEST_CASE("--trim-choices: every choice is a variant of its own, with the fraction given" * doctest::skip()) {
+// Found by the session-50 audit: --trim-choices that differ only past the
+// 6th significant digit were accepted as distinct, but trim_variant() names
+// a variant with %g of the percentage, so both became "icp-trim33_3333":
+// `iclap evaluate FILE --trim auto --trim-choices 0.3333331,0.3333332` then
+// failed after reading FILE, naming the dataset ("FILE: classifiers: two
+// classifiers are named 'icp-trim33_3333'"), not the option; and a
+// variant's fraction, read back from its name by trim_of(), was the rounded
+// 0.333333, not the fraction given. Either the choices are refused naming
+// --trim-choices, or every choice is a variant of its own with the fraction
+// given; and a choice the name rounds is applied as given.
+TEST_CASE("--trim-choices: every choice is a variant of its own, with the fraction given") {
   const Args args = {"--trim", "auto", "--trim-choices", "0.3333331,0.3333332"};
   const std::string refused = usage_error(args);
   if (refused != "(no error)") {
@@ -281,6 +281,15 @@ TEST_CASE("--trim-choices: every choice is a variant of its own, with the fracti
     CHECK(ro.trim_of(variants[0]) == 0.3333331);
     CHECK(ro.trim_of(variants[1]) == 0.3333332);
   }
+  // One such choice: its variant's name rounds it (names stay as in the
+  // results files), the fraction applied does not.
+  const RecognitionOptions one = parsed({"--trim", "auto", "--trim-choices", "0.3333331,0.5"});
+  const std::vector<std::string> variants = one.trim_variants("icp");
+  REQUIRE(variants.size() == 2);
+  CHECK(variants[0] == "icp-trim33_3333");
+  CHECK(variants[1] == "icp-trim50");
+  CHECK(one.trim_of(variants[0]) == 0.3333331);
+  CHECK(one.trim_of(variants[1]) == 0.5);
 }
 
 // Found by the session-50 audit: the float ICP (the default --scalar) holds
