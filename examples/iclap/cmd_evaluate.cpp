@@ -112,7 +112,16 @@ std::vector<Method> parse_methods(const std::string& text) {
   // two columns with one method's results.
   std::map<std::string, std::size_t> seen;  // method_key -> index of its item
   for (const auto& spec : Options::split(text, ',')) {
-    Method m = parse_method(spec);
+    // The parser names its argument "method" ("method: '': ..."); the user
+    // gave --methods.
+    Method m = [&] {
+      try {
+        return parse_method(spec);
+      } catch (const InvalidArgument& e) {
+        throw UsageError("--methods: item " + std::to_string(out.size() + 1) + ": " +
+                         (e.argument() == "method" ? e.reason() : std::string(e.what())));
+      }
+    }();
     const auto [it, added] = seen.emplace(method_key(m), out.size());
     if (!added) {
       const Method& first = out[it->second];
