@@ -823,14 +823,20 @@ int run_evaluate(const Args& args) {
   }
   const bool any_alternatives =
       std::any_of(methods.begin(), methods.end(), [](const Method& m) { return !m.alternatives.empty(); });
-  std::printf(any_alternatives ? "\nfusions chosen on the training folds (fold: fusion%s):\n"
-                               : "\nfusion weights chosen on the training folds (fold: weights%s):\n",
-              (std::string(s.zero_weights ? "; the grid allows 0" : "") +
-               (s.inner_codebooks ? "; every inner fold with a codebook of its own" : ""))
-                  .c_str());
+  // The methods whose fusion (weights or variants) the training folds chose;
+  // without one the heading would stand over nothing.
+  auto chosen = [&](std::size_t i) { return methods[i].chosen_in_training() && !r.methods[i].fold_expressions.empty(); };
+  bool any_chosen = false;
+  for (std::size_t i = 0; i < r.methods.size(); ++i) any_chosen = any_chosen || chosen(i);
+  if (any_chosen)
+    std::printf(any_alternatives ? "\nfusions chosen on the training folds (fold: fusion%s):\n"
+                                 : "\nfusion weights chosen on the training folds (fold: weights%s):\n",
+                (std::string(s.zero_weights ? "; the grid allows 0" : "") +
+                 (s.inner_codebooks ? "; every inner fold with a codebook of its own" : ""))
+                    .c_str());
   for (std::size_t i = 0; i < r.methods.size(); ++i) {
     const MethodResult& m = r.methods[i];
-    if (!methods[i].chosen_in_training() || m.fold_expressions.empty()) continue;
+    if (!chosen(i)) continue;
     std::printf("  %s:", m.name.c_str());
     for (std::size_t f = 0; f < m.fold_expressions.size(); ++f) std::printf(" [%zu] %s", f, m.fold_expressions[f].c_str());
     std::printf("\n");
