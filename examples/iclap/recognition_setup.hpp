@@ -24,6 +24,7 @@
 #include "iclap/recognition/height_classifier.hpp"
 #include "iclap/recognition/methods.hpp"
 #include "iclap/recognition/occupancy_classifier.hpp"
+#include "iclap/recognition/registration_classifier.hpp"
 #include "iclap/recognition/touch_table.hpp"
 #include "iclap/tactile/kmeans.hpp"
 
@@ -827,8 +828,9 @@ inline bool reads_positions(const std::vector<std::string>& needed) {
 /// (TruncatedDistanceField::kMaxCoordinateVoxels voxels of
 /// --occupancy-voxel: 1e5 m at 1 mm), which the fields would otherwise
 /// refuse in the middle of the run. With a patch classifier, the points a
-/// reference averages per --patch-voxel cube must lie within 2^62 voxels of
-/// the origin (a UsageError naming --patch-voxel otherwise).
+/// reference averages per --patch-voxel cube must lie within
+/// ContactEmbedding::kMaxCells voxels of the origin (a UsageError naming
+/// --patch-voxel otherwise).
 inline void check_positions(const std::vector<std::string>& needed, const TouchTable& table,
                             const RecognitionOptions& ro, const std::string& origin) {
   if (!reads_positions(needed)) return;
@@ -842,19 +844,20 @@ inline void check_positions(const std::vector<std::string>& needed, const TouchT
     if (!problem.empty()) throw InvalidArgument(origin, touch(i) + problem);
   }
   // The patch classifiers average a reference's points per --patch-voxel
-  // cube, indexed by floor(coordinate / voxel), which must stay below 2^62
-  // (the library's ContactEmbedding refuses more in the middle of the run,
-  // naming its "reference_voxel"): the points it indexes are a touch's
-  // contact points, or its position when it has none.
+  // cube (ContactEmbedding::cell_of, which refuses a point too many voxels
+  // from the origin in the middle of the run, naming its
+  // "reference_voxel"): the points it indexes are a touch's contact points,
+  // or its position when it has none.
   const bool patch = std::find(needed.begin(), needed.end(), "patch") != needed.end() ||
                      std::find(needed.begin(), needed.end(), "iclap_patch") != needed.end();
   if (patch && ro.patch_voxel > 0) {
     const TouchSet& s = table.touches;
     auto check_cell = [&](Index i, double coordinate) {
-      if (!(std::abs(std::floor(coordinate / ro.patch_voxel)) < 0x1p62))
-        throw UsageError("--patch-voxel " + format_value(ro.patch_voxel) + ": " + origin + ": " + touch(i) +
-                         "coordinate " + format_value(coordinate) + " m is beyond 2^62 voxels from the origin; " +
-                         "use a larger voxel, or 0 for none");
+      try {
+        (void)ContactEmbedding<false>::cell_of(coordinate, ro.patch_voxel);
+      } catch (const InvalidArgument& e) {
+        throw UsageError("--patch-voxel " + format_value(ro.patch_voxel) + ": " + origin + ": " + touch(i) + e.reason());
+      }
     };
     for (Index i = 0; i < table.size(); ++i) {
       const Index m = s.contacts_of(i);

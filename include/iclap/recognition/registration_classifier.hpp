@@ -122,6 +122,23 @@ struct ContactEmbedding {
   Index test_points_per_touch = 8;
   double reference_voxel = 0.002;
 
+  /// The most voxels from the origin a reference point may lie: cell
+  /// indices are long long (a cast beyond its range is undefined).
+  static constexpr double kMaxCells = 0x1p62;
+
+  /// The index of the `voxel` cell holding `coordinate` along one axis (0
+  /// when voxel is 0: no averaging). Throws InvalidArgument naming
+  /// "reference_voxel" when it is kMaxCells or more from the origin.
+  static long long cell_of(double coordinate, double voxel) {
+    const double cell = voxel > 0 ? std::floor(coordinate / voxel) : 0.0;
+    if (!(std::abs(cell) < kMaxCells))
+      throw InvalidArgument("reference_voxel", "coordinate " + format_value(coordinate) + " is " + format_value(cell) +
+                                                   " voxels of " + format_value(voxel) +
+                                                   " from the origin, beyond the cell index range; use a larger "
+                                                   "voxel, or 0 for none");
+    return static_cast<long long>(cell);
+  }
+
   Index dim(const TouchSet& /*touches*/) const noexcept { return dimension; }
   void validate() const {
     if (Labeled) check_positive(label_scale, "label_scale");
@@ -156,16 +173,7 @@ struct ContactEmbedding {
     std::map<Key, std::pair<Eigen::Vector3d, Index>> cells;
     auto add = [&](const Eigen::Vector3d& p, Index word) {
       Key key{0, 0, 0, Labeled ? static_cast<long long>(word) : 0};
-      for (int a = 0; a < 3; ++a) {
-        const double cell = reference_voxel > 0 ? std::floor(p(a) / reference_voxel) : 0.0;
-        // (A cast of a cell index beyond long long's range is undefined.)
-        if (!(std::abs(cell) < 0x1p62))
-          throw InvalidArgument("reference_voxel", "coordinate " + format_value(p(a)) + " is " + format_value(cell) +
-                                                       " voxels of " + format_value(reference_voxel) +
-                                                       " from the origin, beyond the cell index range; use a "
-                                                       "larger voxel, or 0 for none");
-        key[static_cast<std::size_t>(a)] = static_cast<long long>(cell);
-      }
+      for (int a = 0; a < 3; ++a) key[static_cast<std::size_t>(a)] = cell_of(p(a), reference_voxel);
       auto it = cells.find(key);
       if (it == cells.end()) it = cells.emplace(key, std::make_pair(Eigen::Vector3d::Zero().eval(), Index(0))).first;
       it->second.first += p;
