@@ -12,6 +12,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <HD/hd.h>
@@ -20,6 +21,7 @@
 #include <Eigen/Geometry>
 
 #include "iclap/rig/openhaptics_pose.hpp"
+#include "../support/errors.hpp"
 
 using iclap::rig::OpenHapticsPoseSource;
 using iclap::rig::Pose;
@@ -58,15 +60,10 @@ bool called(const std::string& call) {
   return false;
 }
 
-// The message of the TransportError that `f` throws ("" if none).
+// The message of the TransportError that `f` throws ("(no error)" if none).
 template <typename F>
 std::string transport_error(F&& f) {
-  try {
-    f();
-  } catch (const TransportError& e) {
-    return e.what();
-  }
-  return "";
+  return iclap::test::what_of<TransportError>(std::forward<F>(f));
 }
 
 }  // namespace
