@@ -482,21 +482,35 @@ void connect_sensor(LiveSource& s, const std::optional<rig::Grid>& grid_override
   s.source = std::make_unique<rig::SensorFrameSource>(*s.sensor, *s.poses);
 }
 
-int run_live(const Options& o, const Setup& setup, const std::string& path, const Dataset& dataset,
-             const TouchTable& table) {
+/// The options of a live run that need no references: parsed before the
+/// references are read and described, so that a bad one is refused at once.
+struct LiveOptions {
   LiveStopRule rule;
-  rule.confidence = o.number("confidence", 0.5, 0.0, 1.0);
-  rule.min_touches = static_cast<Index>(o.integer("min-touches", 1, 1, 1000000));
-  rule.max_touches = static_cast<Index>(o.integer("max-touches", 0, 1, 1000000));
-  if (rule.max_touches > 0 && rule.max_touches < rule.min_touches)
-    throw UsageError("--min-touches " + std::to_string(rule.min_touches) + " exceeds --max-touches " +
-                     std::to_string(rule.max_touches));
-  const auto top = static_cast<std::size_t>(o.integer("top", 3, 0, 1000));
+  std::size_t top = 3;
+  std::optional<rig::Grid> grid_override;
+};
+
+LiveOptions parse_live_options(const Options& o) {
+  LiveOptions l;
+  l.rule.confidence = o.number("confidence", 0.5, 0.0, 1.0);
+  l.rule.min_touches = static_cast<Index>(o.integer("min-touches", 1, 1, 1000000));
+  l.rule.max_touches = static_cast<Index>(o.integer("max-touches", 0, 1, 1000000));
+  if (l.rule.max_touches > 0 && l.rule.max_touches < l.rule.min_touches)
+    throw UsageError("--min-touches " + std::to_string(l.rule.min_touches) + " exceeds --max-touches " +
+                     std::to_string(l.rule.max_touches));
+  l.top = static_cast<std::size_t>(o.integer("top", 3, 0, 1000));
   for (const char* opt : {"fixed", "repeats", "traces"})
     if (o.has(opt)) throw UsageError(std::string("--") + opt + " needs --cross-validate");
   if (o.flag("inner-codebooks")) throw UsageError("--inner-codebooks needs --cross-validate");
-  std::optional<rig::Grid> grid_override;
-  if (o.has("grid")) grid_override = rig::parse_grid(o.string("grid"), "--grid");
+  if (o.has("grid")) l.grid_override = rig::parse_grid(o.string("grid"), "--grid");
+  return l;
+}
+
+int run_live(const Options& o, const LiveOptions& live, const Setup& setup, const std::string& path,
+             const Dataset& dataset, const TouchTable& table) {
+  const LiveStopRule& rule = live.rule;
+  const std::size_t top = live.top;
+  const std::optional<rig::Grid>& grid_override = live.grid_override;
   LiveSource src = make_source(o);  // validates every source option (opens the port, no traffic yet)
   {  // Before the references are built and the sensor streams.
     const std::vector<std::string> oriented = orientation_classifiers(needed_classifiers({setup.method}));
@@ -752,6 +766,8 @@ int run_live_command(const Args& args) {
   } else if (o.has("confidence") && o.string("confidence").find(',') != std::string::npos) {
     throw UsageError("--confidence: a list of thresholds needs --cross-validate");
   }
+  std::optional<LiveOptions> live;
+  if (!cross_validate) live = parse_live_options(o);
 
   const std::string path = o.string("references");
   const Dataset dataset = read_dataset_with_warnings(path);
@@ -767,7 +783,8 @@ int run_live_command(const Args& args) {
   // inside the weight search, whose failure reads as the method's; named
   // here as the data error it is.
   naming_inputs(path, [&] { check_objects_to_choose_among(table.objects, "table"); });
-  return cross_validate ? run_cross_validation(o, setup, path, dataset, table) : run_live(o, setup, path, dataset, table);
+  return cross_validate ? run_cross_validation(o, setup, path, dataset, table)
+                        : run_live(o, *live, setup, path, dataset, table);
 }
 
 }  // namespace

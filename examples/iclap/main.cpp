@@ -60,7 +60,9 @@ int main(int argc, char** argv) {
     return kExitBadInput;
   }
   const Args args(argv + 2, argv + argc);
-  if (std::find(args.begin(), args.end(), "--help") != args.end()) {
+  // -h as after the program's name ("iclap evaluate -h" took it for a file).
+  if (std::find(args.begin(), args.end(), "--help") != args.end() ||
+      std::find(args.begin(), args.end(), "-h") != args.end()) {
     std::printf("%s\n", it->usage.c_str());
     return kExitOk;
   }
