@@ -20,11 +20,14 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "iclap/core/check.hpp"
 #include "iclap/core/error.hpp"
 #include "iclap/core/parallel.hpp"
 #include "iclap/core/progress.hpp"
 #include "iclap/core/random.hpp"
+#include "iclap/core/rotation.hpp"
 #include "iclap/io/atomic_file.hpp"
 #include "../support/file_size_limit.hpp"
 #include "../support/temporaries.hpp"
@@ -96,6 +99,34 @@ TEST_CASE("checks name the argument and the location") {
   CHECK_THROWS_WITH_AS(check_dimension(4, 3, "test"), "test: has dimension 4, expected 3", DimensionMismatch);
   const ParseError pe("data.csv", 12, "negative pressure");
   CHECK(std::string(pe.what()) == "data.csv:12: negative pressure");
+}
+
+TEST_CASE("rotation_fault: a rotation within the tolerance passes; a scaled, singular, reflected or non-finite matrix does not") {
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
+  CHECK(orthogonality_deviation(R) < 1e-15);
+  CHECK(rotation_fault(R, 1e-3).empty());
+  CHECK(rotation_fault(Eigen::Matrix4f::Identity(), 0.0).empty());
+  // Rounded to float (about 1e-7 off) it still passes 1e-6.
+  CHECK(rotation_fault(R.cast<float>(), 1e-6).empty());
+  // Scaled by 1 + e: the deviation is (1 + e)^2 - 1 = 2e + e^2, on either
+  // side of the tolerance.
+  CHECK(rotation_fault(R * 1.0004, 1e-3).empty());
+  CHECK(rotation_fault(R * 1.0006, 1e-3) ==
+        "is not orthogonal: the largest entry of |R^T R - I| is 0.00120036 (tolerance 0.001; det 1.0018)");
+  CHECK(rotation_fault(Eigen::Matrix3d::Zero(), 1e-3) ==
+        "is not orthogonal: the largest entry of |R^T R - I| is 1 (tolerance 0.001; det 0)");
+  const Eigen::Matrix3d reflected = R * Eigen::Vector3d(1, -1, 1).asDiagonal();
+  CHECK(orthogonality_deviation(reflected) < 1e-15);
+  CHECK(rotation_fault(reflected, 1e-3) == "is orthogonal with det -1 (a reflection)");
+  Eigen::Matrix3d bad = R;
+  bad(1, 2) = std::numeric_limits<double>::quiet_NaN();
+  CHECK(rotation_fault(bad, 1e-3) == "holds a NaN or an infinity");
+  bad(1, 2) = -std::numeric_limits<double>::infinity();
+  CHECK(rotation_fault(bad, 1e-3) == "holds a NaN or an infinity");
+  // The scalar form: a NaN deviation is no rotation either.
+  CHECK(!rotation_fault(std::numeric_limits<double>::quiet_NaN(), 1.0, 1e-3).empty());
+  CHECK(rotation_fault(1e-3, 1e-300, 1e-3).empty());
+  CHECK(!rotation_fault(0.0, 0.0, 1e-3).empty());
 }
 
 TEST_CASE("find_beyond_range: the first coefficient, column by column, beyond the scalar's range, weights applied") {

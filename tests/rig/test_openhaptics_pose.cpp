@@ -284,12 +284,12 @@ TEST_CASE("OpenHapticsPoseSource: a rotation that is not a rotation is not passe
   Eigen::Isometry3d tool_to_pad = Eigen::Isometry3d::Identity();
   tool_to_pad.translation() = Eigen::Vector3d(0, 0, 0.05);
   OpenHapticsPoseSource src("", tool_to_pad);
-  std::string why = "its rotation block is not orthonormal (the largest entry of |R^T R - I| is ";
+  std::string why = "its rotation block is not orthogonal: the largest entry of |R^T R - I| is ";
   SUBCASE("all zeros") { arm_reports(Eigen::Matrix3d::Zero(), Eigen::Vector3d(10, 20, 30)); }
   SUBCASE("scaled by 2") { arm_reports(2.0 * generic_rotation(), Eigen::Vector3d(10, 20, 30)); }
   SUBCASE("a reflection") {
     arm_reports(generic_rotation() * Eigen::Vector3d(1, 1, -1).asDiagonal(), Eigen::Vector3d(10, 20, 30));
-    why = "its rotation block is a reflection (determinant -1)";
+    why = "its rotation block is orthogonal with det -1 (a reflection)";
   }
   SUBCASE("nothing written: all 16 entries zero") {
     for (double& v : fake_hd::state.transform) v = 0;

@@ -9,6 +9,7 @@
 #include <Eigen/LU>
 
 #include "iclap/core/check.hpp"
+#include "iclap/core/rotation.hpp"
 #include "iclap/core/types.hpp"
 
 namespace iclap {
@@ -116,17 +117,10 @@ struct RigidTransform {
         Q(a, b) = static_cast<double>(R(i, j));
         Qw(a, b) = static_cast<double>(weights(i)) * Q(a, b) / static_cast<double>(weights(j));
       }
-    const auto deviation = [m](const Eigen::MatrixXd& q) {
-      return (q.transpose() * q - Eigen::MatrixXd::Identity(m, m)).cwiseAbs().maxCoeff();
-    };
-    const double off = std::min(deviation(Q), deviation(Qw));
-    const double det = Q.determinant();
-    if (off <= rotation_tolerance && det > 0) return;
-    const std::string why = off <= rotation_tolerance
-                                ? "is orthogonal with det " + format_value(det) + " (a reflection)"
-                                : "is not orthogonal: the largest entry of |R^T R - I| is " + format_value(off) +
-                                      " (tolerance " + format_value(rotation_tolerance) + "; det " +
-                                      format_value(det) + ")";
+    // Qw = W Q W^-1 is similar to Q: the same determinant.
+    const std::string why = rotation_fault(std::min(orthogonality_deviation(Q), orthogonality_deviation(Qw)),
+                                           Q.determinant(), rotation_tolerance);
+    if (why.empty()) return;
     throw InvalidArgument(argument + ".R",
                           why + ". ICP composes its motion with this transform, so its result would not be a "
                                 "rotation either; pass a rotation (see RigidTransform)");

@@ -25,6 +25,7 @@
 #include <Eigen/Geometry>
 
 #include "iclap/core/error.hpp"
+#include "iclap/core/rotation.hpp"
 #include "iclap/rig/byte_stream.hpp"
 #include "iclap/rig/pose_source.hpp"
 
@@ -126,17 +127,14 @@ class OpenHapticsPoseSource final : public PoseSource {
   static void drain_errors() { (void)pending_errors(); }
 
   /// "" if `m` is a finite rigid transform (bottom row 0 0 0 1, rotation
-  /// block orthonormal within kRotationTolerance with determinant +1), else
-  /// what is wrong.
+  /// block a rotation within kRotationTolerance: see rotation_fault, which
+  /// RigidTransform::check_rotation shares), else what is wrong.
   static std::string rigid_fault(const Eigen::Matrix4d& m) {
     if (!m.allFinite()) return "it holds a NaN or an infinity";
     if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > kRotationTolerance)
       return "its bottom row is not 0 0 0 1";
-    const Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
-    const double off = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-    if (off > kRotationTolerance)
-      return "its rotation block is not orthonormal (the largest entry of |R^T R - I| is " + format_value(off) + ")";
-    if (R.determinant() < 0) return "its rotation block is a reflection (determinant -1)";
+    if (const std::string why = rotation_fault(m.topLeftCorner<3, 3>(), kRotationTolerance); !why.empty())
+      return "its rotation block " + why;
     return {};
   }
 
