@@ -48,6 +48,14 @@ struct Dataset {
 /// simulator's dead band, below the lightest deliberate touch.
 inline constexpr double kDefaultContactThreshold = 20.0;
 
+namespace detail {
+/// is_contact for a threshold the caller has checked: the loops over a
+/// dataset's frames check it once, not once per frame.
+inline bool is_contact_unchecked(const Frame& f, double threshold) {
+  return f.pressures.size() > 0 && f.pressures.maxCoeff() > threshold;
+}
+}  // namespace detail
+
 /// True when the frame's largest taxel pressure is above `threshold` (raw
 /// units). A frame without taxels is never a contact. Throws InvalidArgument
 /// naming "threshold" unless it is finite and >= 0 (a NaN made no frame a
@@ -55,7 +63,7 @@ inline constexpr double kDefaultContactThreshold = 20.0;
 /// the tactile is_contact do. O(taxels).
 inline bool is_contact(const Frame& f, double threshold = kDefaultContactThreshold) {
   check_non_negative(threshold, "threshold");
-  return f.pressures.size() > 0 && f.pressures.maxCoeff() > threshold;
+  return detail::is_contact_unchecked(f, threshold);
 }
 
 /// Number of contact frames (see is_contact) in `ds`. Throws InvalidArgument
@@ -64,7 +72,7 @@ inline bool is_contact(const Frame& f, double threshold = kDefaultContactThresho
 inline std::size_t contact_frame_count(const Dataset& ds, double threshold = kDefaultContactThreshold) {
   check_non_negative(threshold, "threshold");
   return static_cast<std::size_t>(std::count_if(
-      ds.frames.begin(), ds.frames.end(), [&](const Frame& f) { return is_contact(f, threshold); }));
+      ds.frames.begin(), ds.frames.end(), [&](const Frame& f) { return detail::is_contact_unchecked(f, threshold); }));
 }
 
 /// Object names in order of first appearance in the file. O(frames).
@@ -140,7 +148,7 @@ inline std::vector<ObjectSummary> summarize(const Dataset& ds,
       s.explorations.push_back(e.id);
       s.frames += e.frames.size();
       for (const std::size_t i : e.frames)
-        if (is_contact(ds.frames[i], threshold)) ++s.contact_frames;
+        if (detail::is_contact_unchecked(ds.frames[i], threshold)) ++s.contact_frames;
     }
     out.push_back(std::move(s));
   }

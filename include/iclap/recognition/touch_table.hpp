@@ -193,7 +193,7 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
       index[f.object] = static_cast<Index>(t.objects.size());
       t.objects.push_back(f.object);
     }
-    if (is_contact(f, contact_threshold)) kept.push_back(i);
+    if (detail::is_contact_unchecked(f, contact_threshold)) kept.push_back(i);
     else ++t.idle_frames;
   }
   if (kept.empty())
