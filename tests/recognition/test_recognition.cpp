@@ -1010,3 +1010,25 @@ TEST_CASE("cross validation: fitted weights win on rate, then on margin; the swe
     CHECK(sw.correct[g] == std::vector<Index>{expected, expected});
   }
 }
+
+// --- Audit (session 51, helper-47): reproducers of defects, skipped until fixed.
+
+TEST_CASE("audit: a method that fits weights must be a weighted sum, refused at construction otherwise" *
+          doctest::skip()) {
+  // Expected (CrossValidation's constructor doc, Method::validate): a method
+  // whose weights are to be fitted but whose fusion is no weighted sum (a
+  // classifier alone, a product) is refused at construction, InvalidArgument
+  // naming "methods" and the method. Happened: Method::validate checks only
+  // the alternatives, check_weight_steps counts 0 (or the factors') terms,
+  // so construction succeeds; run() then fails with "terms: must be at least
+  // 1, got 0" (no method named), or, for the product, after fitting the
+  // inner folds, with "weights: only a weighted sum has weights: icp*bow".
+  const TouchTable t = synthetic_table(5);
+  const Fusion icp = Fusion::classifier("icp"), bow = Fusion::classifier("bow");
+  for (const Method& m : {Method{"icp", icp, true, {}}, Method{"icp*bow", icp * bow, true, {}}}) {
+    CAPTURE(m.name);
+    CHECK(error_of([&] { m.validate(); }).find("methods | ") == 0);
+    CHECK(error_of([&] { CrossValidation<>(t, test::paper_classifiers, codebook(4), {m}); })
+              .find("methods | method '" + m.name + "'") == 0);
+  }
+}
