@@ -1032,3 +1032,27 @@ TEST_CASE("audit: a method that fits weights must be a weighted sum, refused at 
               .find("methods | method '" + m.name + "'") == 0);
   }
 }
+
+TEST_CASE("audit: a number of touches listed twice is refused, as iclap evaluate refuses it" * doctest::skip()) {
+  // Expected: CrossValidationSettings::validate refuses touches = {2, 2}
+  // (InvalidArgument naming "touches"), as `iclap evaluate --touches 2,2`
+  // does ("--touches: 2 is listed twice"): the second entry draws the very
+  // same test sets (the draw's stream depends on the count, not on its
+  // position), so it is one result under two columns, and a caller that
+  // sums over the columns counts those tests twice. Happened: accepted; run()
+  // reports two identical columns.
+  CrossValidationSettings s;
+  s.touches = {2, 3, 2};
+  CHECK(error_of([&] { s.validate(); }).find("touches | ") == 0);
+  // The engine refuses it at construction too (it reported two identical
+  // columns for 2 touches: same totals, same correct counts).
+  s.touches = {2, 2};
+  const TouchTable t = synthetic_table(5);
+  auto only_bow = [] {
+    std::vector<std::unique_ptr<Classifier>> cs;
+    cs.push_back(std::make_unique<BowClassifier>());
+    return cs;
+  };
+  CHECK(error_of([&] { CrossValidation<>(t, only_bow, codebook(4), {parse_method("bow")}, s); }).find("touches | ") ==
+        0);
+}
