@@ -1056,3 +1056,22 @@ TEST_CASE("audit: a number of touches listed twice is refused, as iclap evaluate
   CHECK(error_of([&] { CrossValidation<>(t, only_bow, codebook(4), {parse_method("bow")}, s); }).find("touches | ") ==
         0);
 }
+
+TEST_CASE("audit: a method listed twice, under one name or two spellings, is refused" * doctest::skip()) {
+  // Expected: CrossValidation refuses a method list that runs one method
+  // twice (InvalidArgument naming "methods"), as `iclap evaluate --methods
+  // icp+bow,bow+icp` does with method_key, whose doc gives this very use;
+  // and two methods of one name, whose results could not be told apart.
+  // Happened: both lists are accepted; the run computes the method twice
+  // and reports two results of one name.
+  const TouchTable t = synthetic_table(5);
+  CHECK(method_key(parse_method("icp+bow")) == method_key(parse_method("bow+icp")));
+  CHECK(error_of([&] {
+          CrossValidation<>(t, test::paper_classifiers, codebook(4), {parse_method("icp+bow"), parse_method("bow+icp")});
+        }).find("methods | ") == 0);
+  Method other = parse_method("icp");
+  other.name = "bow";
+  CHECK(error_of([&] {
+          CrossValidation<>(t, test::paper_classifiers, codebook(4), {parse_method("bow"), other});
+        }).find("methods | ") == 0);
+}
