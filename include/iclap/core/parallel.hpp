@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <exception>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -27,7 +28,9 @@ inline unsigned worker_count(unsigned threads, std::size_t count) {
 /// that fail depending only on i, that is the exception a single thread
 /// would throw, whatever the thread count and timing. Items must write
 /// only their own state (or synchronise); results that depend only on i
-/// are then identical for any thread count.
+/// are then identical for any thread count. When the system refuses to
+/// start a thread, the items run on the threads already started (at least
+/// the calling one).
 template <typename Body>
 void parallel_for(std::size_t count, unsigned threads, Body&& body) {
   std::atomic<std::size_t> next{0};
@@ -53,7 +56,14 @@ void parallel_for(std::size_t count, unsigned threads, Body&& body) {
   };
   const unsigned n = worker_count(threads, count);
   std::vector<std::thread> pool;
-  for (unsigned id = 1; id < n; ++id) pool.emplace_back(worker, id);
+  pool.reserve(n - 1);
+  try {
+    for (unsigned id = 1; id < n; ++id) pool.emplace_back(worker, id);
+  } catch (const std::system_error&) {
+    // The system refused a thread (no memory for its stack, a process
+    // limit): the items run on the threads already started. Letting the
+    // exception leave would destroy joinable threads (std::terminate).
+  }
   worker(0);
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);
