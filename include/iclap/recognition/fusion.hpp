@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -209,7 +210,7 @@ class Fusion {
         std::string s;
         for (std::size_t i = 0; i < children_.size(); ++i) {
           if (i) s += "+";
-          s += format_value(weights_[i]) + "*" + children_[i].to_string_as_factor();
+          s += weight_text(weights_[i]) + "*" + children_[i].to_string_as_factor();
         }
         return s;
       }
@@ -228,6 +229,17 @@ class Fusion {
  private:
   Fusion() = default;
 
+  /// A weight as to_string writes it: six significant digits when they read
+  /// back within 1e-12 (the paper's tenths, "0.2"), else the shortest text
+  /// that reads back exactly ("0.3333333333333333" for a third), so that
+  /// parse_method reads any fused method's text back to the same weights.
+  static std::string weight_text(double w) {
+    const std::string brief = format_value(w);
+    double back = 0;
+    const auto read = std::from_chars(brief.data(), brief.data() + brief.size(), back);
+    return read.ec == std::errc() && std::abs(back - w) <= 1e-12 ? brief : format_exact(w);
+  }
+
   std::string to_string_as_factor() const {
     return kind_ == Kind::WeightedSum ? "(" + to_string() + ")" : to_string();
   }
@@ -242,7 +254,7 @@ class Fusion {
     if ((v.array() < 0).any())
       throw InvalidArgument("distances", "product fusion needs non-negative distances, but " + f.to_string() +
                                              " has " + format_value(v.minCoeff()) +
-                                             " (z-score normalisation is signed: use l2 or minmax with products)");
+                                             " (z-score normalisation is signed: use l2 with products)");
   }
 
   Kind kind_ = Kind::Classifier;

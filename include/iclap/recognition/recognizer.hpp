@@ -32,11 +32,15 @@ inline void check_methods_use_known_classifiers(const std::vector<Method>& metho
 
 /// How sure a decision is: the relative margin 1 - best / second best of
 /// non-negative fused distances, in [0, 1] (0: a tie, 1: the best distance is
-/// 0 and the next is not). 1 with a single object; 0 when every distance is 0.
-/// NonFiniteValue naming "fused" for a NaN or infinity.
+/// 0 and the next is not). 1 with a single object; 0 when every distance is
+/// 0, and 0 with no object (decide's -1 is no decision). NonFiniteValue
+/// naming "fused" for a NaN or infinity, InvalidArgument for a negative
+/// distance, whatever the number of objects.
 inline double decision_confidence(const Eigen::Ref<const Eigen::VectorXd>& fused) {
   check_finite(fused, "fused");
-  if (fused.size() < 2) return 1.0;
+  if (fused.size() == 0) return 0.0;
+  if (fused.minCoeff() < 0) throw InvalidArgument("fused", "confidence needs non-negative distances");
+  if (fused.size() == 1) return 1.0;
   double best = fused(0), second = fused(1);
   if (second < best) std::swap(best, second);
   for (Index j = 2; j < fused.size(); ++j) {
@@ -47,7 +51,6 @@ inline double decision_confidence(const Eigen::Ref<const Eigen::VectorXd>& fused
       second = fused(j);
     }
   }
-  if (best < 0) throw InvalidArgument("fused", "confidence needs non-negative distances");
   return second > 0 ? 1.0 - best / second : 0.0;
 }
 
@@ -79,16 +82,23 @@ class Recognizer {
   }
 
   /// Throws like check_methods_use_known_classifiers, and when a method
-  /// multiplies distances that this recogniser's normalisation makes signed.
+  /// multiplies distances under a normalisation that does not suit a
+  /// product: z-score makes them signed, and min-max puts every classifier's
+  /// best object at exactly 0, so that every object one factor ranks first
+  /// has product 0 and the tie among them goes to the lowest index, whatever
+  /// the other factors say. Products need l2 (the paper's).
   void check(const std::vector<Method>& methods) const {
     check_methods_use_known_classifiers(methods, classifier_names());
-    if (normalization_ == Normalization::ZScore)
-      for (const auto& m : methods)
-        for (const auto& f : m.candidates())
-          if (has_product(f))
-            throw InvalidArgument("methods", "method '" + m.name +
-                                                 "' multiplies distances, but z-score normalisation makes them "
-                                                 "signed; use l2 or minmax");
+    if (normalization_ == Normalization::L2) return;
+    const std::string why = normalization_ == Normalization::ZScore
+                                ? "z-score normalisation makes them signed"
+                                : "min-max normalisation puts every classifier's best object at 0, so the product "
+                                  "is 0 for the best object of each factor and ties among them";
+    for (const auto& m : methods)
+      for (const auto& f : m.candidates())
+        if (has_product(f))
+          throw InvalidArgument("methods", "method '" + m.name + "' multiplies distances, but " + why +
+                                               "; use l2 with products, or leave products out");
   }
 
   /// Fits every classifier on the same training touches (one set per object).
@@ -101,8 +111,8 @@ class Recognizer {
   /// Normalised distances of every classifier (or of those named in `only`,
   /// if not empty) from `test` to every object. If `seconds` is given (one
   /// entry per classifier, in order), each classifier's time is added to it.
-  /// Throws InvalidArgument naming "only" for a name that is no classifier's,
-  /// and what `normalize` throws for a classifier's NaN, infinite or negative
+  /// Throws InvalidArgument naming "recognizer" before `fit`, naming "only"
+  /// for a name that is no classifier's, and what `normalize` throws for a classifier's NaN, infinite or negative
   /// distance, naming "distances of 'NAME'" (as DistanceTable::set does).
   DistanceTable distances(const TouchSet& test, const std::vector<std::string>& only = {},
                           std::vector<double>* seconds = nullptr) const {
@@ -119,6 +129,7 @@ class Recognizer {
                                                                 const std::vector<std::string>& only = {},
                                                                 std::vector<double>* seconds = nullptr,
                                                                 unsigned threads = 1) const {
+    check_fitted();
     check_only(only);
     std::vector<std::shared_ptr<const PreparedPool>> out(classifiers_.size());
     if (seconds) seconds->resize(classifiers_.size(), 0.0);
@@ -153,6 +164,12 @@ class Recognizer {
     return only.empty() || std::find(only.begin(), only.end(), c.name()) != only.end();
   }
 
+  /// Throws InvalidArgument naming "recognizer" before `fit` (or after a
+  /// fit on no object): its classifiers would measure against no object.
+  void check_fitted() const {
+    if (objects() < 1) throw InvalidArgument("recognizer", "is not fitted (no object to recognise); call fit first");
+  }
+
   /// Throws InvalidArgument naming "only" for a name no classifier has (it
   /// would be skipped silently, leaving its distances out of the table).
   void check_only(const std::vector<std::string>& only) const {
@@ -166,6 +183,7 @@ class Recognizer {
   /// `compute(classifier, its index, out)`, timed and normalised.
   template <typename Compute>
   DistanceTable table_of(const std::vector<std::string>& only, std::vector<double>* seconds, Compute&& compute) const {
+    check_fitted();
     check_only(only);
     DistanceTable table;
     Eigen::VectorXd d(objects());
