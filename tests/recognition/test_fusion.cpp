@@ -372,7 +372,7 @@ TEST_CASE("method_key: one key for the spellings of one method, distinct keys fo
 TEST_CASE("methods with alternatives: renaming and variants") {
   const Method m = parse_method("iclap_patch+patch+bow");
   const Fusion renamed = m.fusion.renamed("patch", "patch-trim50");
-  CHECK(renamed.to_string() == "0.333333*iclap_patch+0.333333*patch-trim50+0.333333*bow");
+  CHECK(renamed.to_string() == "0.3333333333333333*iclap_patch+0.3333333333333333*patch-trim50+0.33333333333333337*bow");
   CHECK(m.fusion.renamed("icp", "x").to_string() == m.fusion.to_string());  // unused: unchanged
   CHECK(parse_method("(icp*bow)*icp").fusion.renamed("icp", "a").to_string() == "a*bow*a");
 
@@ -382,10 +382,12 @@ TEST_CASE("methods with alternatives: renaming and variants") {
   CHECK(v.fit_weights);
   std::vector<std::string> candidates;
   for (const auto& c : v.candidates()) candidates.push_back(c.to_string());
-  CHECK(candidates == std::vector<std::string>{"0.333333*q1+0.333333*p1+0.333333*bow",
-                                               "0.333333*q2+0.333333*p1+0.333333*bow",
-                                               "0.333333*q1+0.333333*p2+0.333333*bow",
-                                               "0.333333*q2+0.333333*p2+0.333333*bow"});
+  // (Equal weights before fitting: thirds, written so that they read back.)
+  const std::string third = "0.3333333333333333*", last = "0.33333333333333337*";
+  CHECK(candidates == std::vector<std::string>{third + "q1+" + third + "p1+" + last + "bow",
+                                               third + "q2+" + third + "p1+" + last + "bow",
+                                               third + "q1+" + third + "p2+" + last + "bow",
+                                               third + "q2+" + third + "p2+" + last + "bow"});
   CHECK(v.alternatives.size() == 3);
   CHECK(v.chosen_in_training());
   CHECK(v.classifiers() == std::vector<std::string>{"q1", "p1", "bow", "q2", "p2"});
@@ -490,7 +492,7 @@ TEST_CASE("weights sum to 1 within 1e-9, and every factor of a product is checke
         std::string::npos);
   // A sum that six digits would show as 1 is shown with all its digits.
   CHECK(error_of([&] { Fusion f = 0.5 * icp + (0.5 + 1e-8) * bow; }) ==
-        "weights | weights: the weights sum to 1.00000001, not 1, in 0.5*icp+0.5*bow");
+        "weights | weights: the weights sum to 1.00000001, not 1, in 0.5*icp+0.50000001*bow");
   CHECK(error_of([&] { Fusion f = 0.1 * icp + 0.2 * bow + 0.7 * iclap; }) == "(no error)");
   CHECK(error_of([&] { Fusion f = 0.5 * icp + (0.5 + 1e-10) * bow; }) == "(no error)");
   // A negative distance in the second or a later factor of a product, not
@@ -498,7 +500,7 @@ TEST_CASE("weights sum to 1 within 1e-9, and every factor of a product is checke
   const auto t = table_of({{"icp", vec({0.7, 0.1})}, {"bow", vec({0.1, -0.9})}, {"iclap", vec({0.5, 0.5})}});
   CHECK(error_of([&] { (icp * bow).evaluate(t); }) ==
         "distances | distances: product fusion needs non-negative distances, but bow has -0.9 (z-score "
-        "normalisation is signed: use l2 or minmax with products)");
+        "normalisation is signed: use l2 with products)");
   CHECK(error_of([&] { (iclap * icp * bow).evaluate(t); }).find("but bow has -0.9") != std::string::npos);
   CHECK(error_of([&] { (icp * iclap).evaluate(t); }) == "(no error)");
 }
@@ -557,7 +559,7 @@ TEST_CASE("an alternative of a fitted method needs as many terms as the method")
   m.alternatives.push_back(parse_method("icp+bow+iclap").fusion);
   CHECK(error_of([&] { m.validate(); }) ==
         "methods | methods: method 'icp+bow' fits weights, but its alternative "
-        "0.333333*icp+0.333333*bow+0.333333*iclap is not a weighted sum of 2 terms");
+        "0.3333333333333333*icp+0.3333333333333333*bow+0.33333333333333337*iclap is not a weighted sum of 2 terms");
   m.alternatives.back() = parse_method("iclap+bow").fusion;
   CHECK(error_of([&] { m.validate(); }) == "(no error)");
 }
@@ -587,17 +589,16 @@ TEST_CASE("check_weight_steps: at most 1e6 weight vectors per fitted sum") {
   CHECK(error_of([&] { check_weight_steps("m", three, 1415, false); }) == "(no error)");
   CHECK(error_of([&] { check_weight_steps("m", three, 1416, false); }) ==
         "weight_steps | weight_steps: is 1416: the grid of the 3 terms of method 'm' "
-        "(0.333333*icp+0.333333*bow+0.333333*iclap) has 1.0004e+06 weight vectors, more than 1e+06; lower it");
+        "(0.3333333333333333*icp+0.3333333333333333*bow+0.33333333333333337*iclap) has 1.0004e+06 weight vectors, more than 1e+06; lower it");
   // With zero weights: C(steps + 2, 2); 1412 steps give 998991.
   CHECK(error_of([&] { check_weight_steps("m", three, 1412, true); }) == "(no error)");
   CHECK(error_of([&] { check_weight_steps("m", three, 1413, true); }).find("has 1.0004e+06 weight vectors") !=
         std::string::npos);
 }
 
-// --- Audit (session 51, helper-47): reproducers of defects, skipped until fixed.
+// --- Audit (session 51, helper-47): reproducers of defects, fixed since.
 
-TEST_CASE("audit: decision_confidence refuses a negative distance with one object too, and has none for no object" *
-          doctest::skip()) {
+TEST_CASE("audit: decision_confidence refuses a negative distance with one object too, and has none for no object") {
   // Expected: the non-negativity check applies whatever the number of
   // objects (two objects with a negative distance are refused), and an
   // empty vector, which decide() answers with -1 (no object), is no
@@ -608,8 +609,7 @@ TEST_CASE("audit: decision_confidence refuses a negative distance with one objec
   CHECK(decision_confidence(Eigen::VectorXd()) != 1.0);
 }
 
-TEST_CASE("audit: check_weight_steps refuses a step count that leaves no weight vector with zero weights" *
-          doctest::skip()) {
+TEST_CASE("audit: check_weight_steps refuses a step count that leaves no weight vector with zero weights") {
   // Expected (its doc): InvalidArgument naming "weight_steps" whenever the
   // steps leave no weight vector, as without zero weights. Happened: steps 0
   // or -5 with zero weights pass (weight_grid_has_room is true and the grid
@@ -632,7 +632,7 @@ Recognizer unfitted(bool bow) {
 }
 }  // namespace
 
-TEST_CASE("audit: an unfitted recogniser refuses to measure, naming itself" * doctest::skip()) {
+TEST_CASE("audit: an unfitted recogniser refuses to measure, naming itself") {
   // Expected: distances() of a recogniser that was never fitted is refused
   // (as LiveSession refuses it: "recognizer | is not fitted"), naming the
   // recogniser. Happened: with ICP it returns a table of 0 objects, whose
@@ -686,7 +686,7 @@ constexpr bool kSanitized =
 #endif
 }  // namespace
 
-TEST_CASE("audit: a worker thread that cannot be started is an error, not std::terminate" * doctest::skip()) {
+TEST_CASE("audit: a worker thread that cannot be started is an error, not std::terminate") {
   // Expected: when the system refuses a worker thread (threads = 64 here,
   // as CrossValidationSettings::threads, which has no upper bound, or
   // Recognizer::prepare_pool's threads), the call throws (std::system_error)
@@ -730,7 +730,7 @@ TEST_CASE("audit: a worker thread that cannot be started is an error, not std::t
   if (WIFEXITED(status)) CHECK(WEXITSTATUS(status) == 0);
 }
 
-TEST_CASE("audit: the text of a fused method reads back as the same method" * doctest::skip()) {
+TEST_CASE("audit: the text of a fused method reads back as the same method") {
   // Expected: Fusion::to_string (MethodResult::fold_expressions, the
   // "method:" line of iclap live) is a method text that parse_method reads
   // back to the same weights (within the 1e-9 that weighted_sum allows), as
@@ -754,7 +754,7 @@ TEST_CASE("audit: the text of a fused method reads back as the same method" * do
   }
 }
 
-TEST_CASE("audit: a classifier name made of digits is a name wherever no '*' follows it" * doctest::skip()) {
+TEST_CASE("audit: a classifier name made of digits is a name wherever no '*' follows it") {
   // Expected (parse_method's doc): "a classifier name is letters, digits,
   // '_' and (not first) '-' ... a number is a weight only before '*'", and
   // Fusion::classifier takes "2" and "1e5" as names: so "2", "icp+2" and
@@ -770,10 +770,19 @@ TEST_CASE("audit: a classifier name made of digits is a name wherever no '*' fol
     CHECK(error_of([&] { parse_method(spec); }) == "(no error)");
   }
   CHECK(parse_method("icp+2").fusion.classifiers() == std::vector<std::string>{"icp", "2"});
+  CHECK(parse_method("1e-5 + icp").fusion.classifiers() == std::vector<std::string>{"1e-5", "icp"});
+  // Before '*' it is a weight, as before; what cannot be a name still needs
+  // its '*', and a '*' needs a number before it.
+  CHECK(parse_method("0.5*2+0.5*icp").fusion.weights() == std::vector<double>{0.5, 0.5});
+  CHECK(parse_method("1 *icp").fusion.to_string() == "1*icp");
+  CHECK(error_of([] { parse_method("0.5+icp"); }).find("a weight must be followed by '*'") != std::string::npos);
+  CHECK(error_of([] { parse_method(".*icp"); }).find("expected a classifier name (at character 1)") != std::string::npos);
+  // A name never reads as an out-of-range weight; a weight still does.
+  CHECK(parse_method("1e999+icp").fusion.classifiers() == std::vector<std::string>{"1e999", "icp"});
+  CHECK(error_of([] { parse_method("1e999*icp"); }).find("out of the range of a double") != std::string::npos);
 }
 
-TEST_CASE("audit: a product of min-max distances does not decide by index among every factor's best" *
-          doctest::skip()) {
+TEST_CASE("audit: a product of min-max distances does not decide by index among every factor's best") {
   // Expected: min-max normalisation, which product fusion's error message
   // recommends ("use l2 or minmax with products"), gives products that
   // weigh both factors; or Recognizer::check refuses a product under it as
@@ -796,9 +805,16 @@ TEST_CASE("audit: a product of min-max distances does not decide by index among 
                          cs.push_back(std::make_unique<IcpClassifier<double, Planar>>());
                          Recognizer(std::move(cs), Normalization::MinMax).check({parse_method("icp*bow")});
                        }).find("methods | ") == 0;
-  // Either the combination is refused, or the decision is the same object
-  // in both orders (object 1, which bow prefers by far).
-  CAPTURE(forward);
-  CAPTURE(backward);
-  CHECK((refused || (forward == 1 && backward == 0)));
+  // The tie by index that the product would give: object 0 wins in both
+  // orders. So Recognizer::check refuses the combination, as under z-score.
+  CHECK(forward == 0);
+  CHECK(backward == 0);
+  CHECK(refused);
+  CHECK(error_of([] {
+          std::vector<std::unique_ptr<Classifier>> cs;
+          cs.push_back(std::make_unique<BowClassifier>());
+          cs.push_back(std::make_unique<IcpClassifier<double, Planar>>());
+          Recognizer(std::move(cs), Normalization::MinMax).check({parse_method("icp+bow"), parse_method("icp*bow")});
+        }).find("methods | methods: method 'icp*bow' multiplies distances, but min-max normalisation puts every "
+                "classifier's best object at 0") == 0);
 }

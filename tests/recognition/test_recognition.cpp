@@ -396,8 +396,9 @@ TEST_CASE("cross validation chooses among a method's alternatives on the trainin
   s.weight_repeats = 1;
   s.threads = 2;
   // The blind candidate comes first, so choosing it would be the default.
-  Method single{"iclap", Fusion::classifier("blind"), false, {Fusion::classifier("iclap")}};
-  const Method fitted = with_variants(parse_method("icp+bow"), "icp", {"icp", "icp_trim"});
+  Method single{"blind-or-iclap", Fusion::classifier("blind"), false, {Fusion::classifier("iclap")}};
+  Method fitted = with_variants(parse_method("icp+bow"), "icp", {"icp", "icp_trim"});
+  fitted.name = "icp-or-trim+bow";  // not "icp+bow", which is also run, alone
   const std::vector<Method> methods = {single, parse_method("iclap"), fitted, parse_method("icp+bow"),
                                        parse_method("icp_trim+bow")};
   const auto r = CrossValidation<>(t, factory, codebook(4), methods, s).run();
@@ -1011,10 +1012,9 @@ TEST_CASE("cross validation: fitted weights win on rate, then on margin; the swe
   }
 }
 
-// --- Audit (session 51, helper-47): reproducers of defects, skipped until fixed.
+// --- Audit (session 51, helper-47): reproducers of defects, fixed since.
 
-TEST_CASE("audit: a method that fits weights must be a weighted sum, refused at construction otherwise" *
-          doctest::skip()) {
+TEST_CASE("audit: a method that fits weights must be a weighted sum, refused at construction otherwise") {
   // Expected (CrossValidation's constructor doc, Method::validate): a method
   // whose weights are to be fitted but whose fusion is no weighted sum (a
   // classifier alone, a product) is refused at construction, InvalidArgument
@@ -1033,7 +1033,7 @@ TEST_CASE("audit: a method that fits weights must be a weighted sum, refused at 
   }
 }
 
-TEST_CASE("audit: a number of touches listed twice is refused, as iclap evaluate refuses it" * doctest::skip()) {
+TEST_CASE("audit: a number of touches listed twice is refused, as iclap evaluate refuses it") {
   // Expected: CrossValidationSettings::validate refuses touches = {2, 2}
   // (InvalidArgument naming "touches"), as `iclap evaluate --touches 2,2`
   // does ("--touches: 2 is listed twice"): the second entry draws the very
@@ -1057,7 +1057,7 @@ TEST_CASE("audit: a number of touches listed twice is refused, as iclap evaluate
         0);
 }
 
-TEST_CASE("audit: a method listed twice, under one name or two spellings, is refused" * doctest::skip()) {
+TEST_CASE("audit: a method listed twice, under one name or two spellings, is refused") {
   // Expected: CrossValidation refuses a method list that runs one method
   // twice (InvalidArgument naming "methods"), as `iclap evaluate --methods
   // icp+bow,bow+icp` does with method_key, whose doc gives this very use;

@@ -66,6 +66,12 @@ struct CrossValidationSettings {
     if (touches.empty()) throw EmptyInput("touches", "no number of touches to evaluate");
     for (int t : touches)
       if (t < 1) throw InvalidArgument("touches", "every number of touches must be >= 1, got " + std::to_string(t));
+    for (std::size_t i = 1; i < touches.size(); ++i)
+      if (std::find(touches.begin(), touches.begin() + static_cast<std::ptrdiff_t>(i), touches[i]) !=
+          touches.begin() + static_cast<std::ptrdiff_t>(i))
+        throw InvalidArgument("touches", std::to_string(touches[i]) +
+                                             " is listed twice (its draws would be the same test sets, counted "
+                                             "twice)");
     for (const auto& [name, value] : {std::pair<const char*, int>{"repeats", repeats}, {"weight_repeats", weight_repeats}})
       if (value < 1 || value > kMaxRepeats)
         throw InvalidArgument(name, "must be >= 1 and <= " + std::to_string(kMaxRepeats) +
@@ -177,9 +183,10 @@ class CrossValidation {
   ICLAP_CHECK_QUANTIZER(Quantizer, Eigen::MatrixXf);
 
  public:
-  /// Throws at construction for an empty method list or a method that needs
-  /// a classifier the factory does not make (InvalidArgument naming
-  /// "methods"), for invalid settings, for a table whose per-touch vectors
+  /// Throws at construction for an empty method list, a method that needs
+  /// a classifier the factory does not make, or one method given twice
+  /// (under one name, or under two spellings of one method_key; all
+  /// InvalidArgument naming "methods"), for invalid settings, for a table whose per-touch vectors
   /// disagree (TouchTable::validate), and (naming "table") for a table of
   /// fewer than 2 objects (check_objects_to_choose_among), an object
   /// with fewer than 2 explorations, or fewer than 3 when a method's weights
@@ -194,8 +201,20 @@ class CrossValidation {
     settings_.validate();
     if (!factory_) throw InvalidArgument("factory", "is empty");
     if (methods_.empty()) throw EmptyInput("methods", "no method to evaluate");
-    for (const auto& m : methods_) {
+    for (std::size_t i = 0; i < methods_.size(); ++i) {
+      const Method& m = methods_[i];
       m.validate();
+      // One method twice (by name, or under two spellings: method_key)
+      // would be run twice and reported under names that cannot be told
+      // apart, or as two results of one method.
+      for (std::size_t j = 0; j < i; ++j) {
+        const std::string items = " (method " + std::to_string(i + 1) + " and method " + std::to_string(j + 1) + ")";
+        if (methods_[j].name == m.name)
+          throw InvalidArgument("methods", "two methods are named '" + m.name + "'" + items);
+        if (method_key(methods_[j]) == method_key(m))
+          throw InvalidArgument("methods", "method '" + m.name + "' is the same method as '" + methods_[j].name +
+                                               "'" + items);
+      }
       // Checked here, naming the setting (run()'s weight_grid named "steps").
       if (m.fit_weights)
         for (const auto& c : m.candidates()) check_weight_steps(m.name, c, settings_.weight_steps, settings_.zero_weights);

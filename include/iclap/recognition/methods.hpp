@@ -52,10 +52,15 @@ struct Method {
   bool chosen_in_training() const noexcept { return fit_weights || !alternatives.empty(); }
   /// Distinct classifiers used by any candidate, in first-use order.
   std::vector<std::string> classifiers() const { return classifiers_of(candidates()); }
-  /// Throws InvalidArgument naming "methods" when an alternative cannot take
-  /// fitted weights like `fusion` (not a weighted sum of as many terms).
+  /// Throws InvalidArgument naming "methods" when the weights are to be
+  /// fitted but `fusion` is no weighted sum (a classifier alone, a product:
+  /// nothing to weigh), or an alternative cannot take fitted weights like
+  /// `fusion` (not a weighted sum of as many terms).
   void validate() const {
     if (!fit_weights) return;
+    if (fusion.kind() != Fusion::Kind::WeightedSum)
+      throw InvalidArgument("methods", "method '" + name + "' fits weights, but its fusion " + fusion.to_string() +
+                                           " is not a weighted sum");
     for (const auto& a : alternatives)
       if (a.kind() != Fusion::Kind::WeightedSum || a.children().size() != fusion.children().size())
         throw InvalidArgument("methods", "method '" + name + "' fits weights, but its alternative " + a.to_string() +
@@ -180,12 +185,24 @@ class MethodParser {
         // no hex weights.
         const auto read = std::from_chars(begin, s_.data() + s_.size(), w);
         pos_ += static_cast<std::size_t>(read.ptr - begin);
+        const std::size_t end = pos_;
+        // A number is a weight only before '*': digits and letters ("3d",
+        // and "2" or "1e5" with no '*' after them) name a classifier, as
+        // Fusion::classifier takes them.
+        const bool name_like = std::all_of(s_.begin() + static_cast<std::ptrdiff_t>(start),
+                                           s_.begin() + static_cast<std::ptrdiff_t>(end),
+                                           [](char c) { return is_name_char(c) || c == '-'; });
         if (pos_ < s_.size() && is_name_char(s_[pos_])) {
-          pos_ = start;  // a name that starts with digits ("3d"), not a weight
+          pos_ = start;
+          w = 0;
+        } else if (!eat('*')) {
+          if (!name_like) fail("a weight must be followed by '*'");
+          pos_ = start;
+          w = 0;
         } else {
+          if (read.ec == std::errc::invalid_argument) fail("expected a weight before '*'");
           if (read.ec == std::errc::result_out_of_range)
-            fail("the weight " + s_.substr(start, pos_ - start) + " is out of the range of a double");
-          if (!eat('*')) fail("a weight must be followed by '*'");
+            fail("the weight " + s_.substr(start, end - start) + " is out of the range of a double");
           ++weighted;
         }
       }
@@ -305,10 +322,10 @@ inline std::vector<Method> paper_methods() {
   return out;
 }
 
-/// Whether `steps` steps leave a step for each of `terms` weights, which
-/// weight_grid needs unless weights may be 0.
+/// Whether `steps` steps leave any weight vector: at least one step, and a
+/// step for each of `terms` weights unless weights may be 0.
 inline bool weight_grid_has_room(int terms, int steps, bool zero_weights) noexcept {
-  return zero_weights || steps >= terms;
+  return steps >= 1 && (zero_weights || steps >= terms);
 }
 
 /// The most weight vectors a fitted method's grid may have: each is
@@ -334,6 +351,7 @@ inline double weight_grid_size(int terms, int steps, bool zero_weights) noexcept
 inline void check_weight_steps(const std::string& method, const Fusion& candidate, int steps, bool zero_weights) {
   const std::size_t terms = candidate.children().size();
   const std::string of_method = " terms of method '" + method + "' (" + candidate.to_string() + ")";
+  if (steps < 1) throw InvalidArgument("weight_steps", "must be at least 1, got " + std::to_string(steps));
   if (!weight_grid_has_room(static_cast<int>(terms), steps, zero_weights))
     throw InvalidArgument("weight_steps", "is " + std::to_string(steps) + ", fewer than the " + std::to_string(terms) +
                                               of_method + ", each weighted at least one step; raise it or allow zero weights");
