@@ -4,6 +4,15 @@
 // --no-skip to see it fail. Crashes (Eigen assertions, bad reads) run in a
 // child process, so that the suite itself survives them.
 
+// ReferenceCloud::working_points returns a reference to a temporary when
+// its search keeps a cloud of another type (the defect reproduced below);
+// the compiler's warning about it would stop this file from compiling.
+#if defined(__clang__)
+#pragma clang diagnostic ignored "-Wreturn-stack-address"
+#elif defined(__GNUC__)
+#pragma GCC diagnostic ignored "-Wreturn-local-addr"
+#endif
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -96,4 +105,31 @@ TEST_CASE("a default-constructed fixed-dimension search answers a query of any l
       outcome_in_child([&] { return std::to_string(AdaptiveSearch<double, 3>().nearest(two).index); });
   CAPTURE(adaptive);
   CHECK((adaptive == "-1" || adaptive == "DimensionMismatch query"));
+}
+
+// Expected: a ReferenceCloud whose search policy keeps its points in
+// another cloud type (`KdTreeSearch<double>` or `AdaptiveSearch<double>`
+// with their default Dim, Eigen::Dynamic, under a ReferenceCloud<double,
+// 3>: the natural way to write it) either registers like the matching
+// search, or is refused at compile time with a message (a static_assert
+// that Search::CloudType is Cloud<Scalar, Dim>).
+// Happened: it compiles (with only a -Wreturn-local-addr warning inside
+// reference_cloud.hpp): `working_points()` converts search().points() to
+// Cloud<Scalar, Dim> and returns a reference to that temporary, which
+// Icp::estimate then reads: a crash (SIGSEGV) or garbage.
+TEST_CASE("a reference whose search keeps a run-time-dimension cloud registers like the fixed one" * doctest::skip()) {
+  const Eigen::Matrix3Xd model = random_points(3, 60, 3);
+  Eigen::Matrix3Xd test = model;
+  test.row(0).array() += 0.01;
+  const auto expected = Icp<double, 3>().align(ReferenceCloud<double, 3>(model), test);
+  REQUIRE(expected.converged);
+  const auto same = [&](const auto& reference) {
+    const auto r = Icp<double, 3>().align(reference, test);
+    return difference(r.T_model_test.matrix(), expected.T_model_test.matrix()) < 1e-12 &&
+                   r.pairs == expected.pairs
+               ? std::string("same")
+               : std::string("differs");
+  };
+  CHECK(outcome_in_child([&] { return same(ReferenceCloud<double, 3, KdTreeSearch<double>>(model)); }) == "same");
+  CHECK(outcome_in_child([&] { return same(ReferenceCloud<double, 3, AdaptiveSearch<double>>(model)); }) == "same");
 }
