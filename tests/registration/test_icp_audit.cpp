@@ -21,6 +21,7 @@
 
 #include "../support/errors.hpp"
 #include "icp_test_util.hpp"
+#include "iclap/search/distance_field.hpp"
 
 using namespace iclap;
 using namespace iclap::test;
@@ -132,4 +133,27 @@ TEST_CASE("a reference whose search keeps a run-time-dimension cloud registers l
   };
   CHECK(outcome_in_child([&] { return same(ReferenceCloud<double, 3, KdTreeSearch<double>>(model)); }) == "same");
   CHECK(outcome_in_child([&] { return same(ReferenceCloud<double, 3, AdaptiveSearch<double>>(model)); }) == "same");
+}
+
+// Expected: a TruncatedDistanceField given a matrix that is not 3 x n (a
+// MatrixXd of 4 rows) throws DimensionMismatch naming "points", as the
+// README promises for mismatched dimensions.
+// Happened: the constructor takes Eigen::Ref<const Matrix3Xd>, whose
+// conversion asserts (SIGABRT) in a debug build before the field sees it.
+TEST_CASE("a distance field refuses points that are not 3-D, naming them" * doctest::skip()) {
+  const Eigen::MatrixXd four = random_points(4, 10, 4);
+  CHECK(outcome_in_child([&] {
+          const TruncatedDistanceField field(four);
+          return "built, " + std::to_string(field.memory_bytes()) + " bytes";
+        }) == "DimensionMismatch points");
+}
+
+// Expected: RigidTransform<Scalar, Dynamic>::identity(dim) with a negative
+// dim is refused naming "dim" (a fixed Dim refuses any other dim so).
+// Happened: Matrix::Identity(-1, -1) trips an Eigen assertion (SIGABRT).
+TEST_CASE("a run-time-dimension identity of negative dimension is refused naming dim" * doctest::skip()) {
+  const std::string outcome = outcome_in_child(
+      [] { return "dim " + std::to_string(RigidTransform<double, Eigen::Dynamic>::identity(-1).dim()); });
+  CAPTURE(outcome);
+  CHECK((outcome == "DimensionMismatch dim" || outcome == "InvalidArgument dim"));
 }
