@@ -228,3 +228,45 @@ TEST_CASE("a copy of a registration in progress runs as the original would" * do
   CHECK(original.result().iterations == expected.iterations);
   CHECK(copy.result().iterations == expected.iterations);
 }
+
+namespace {
+
+/// A custom rejector (see DistanceRejector's doc) with an off-by-one bug of
+/// the kind a user's policy may have: it reports `n + offset` kept pairs.
+struct MiscountingRejector {
+  Index offset = 0;
+  void validate() const {}
+  Index select(Correspondence<double>* /*pairs*/, Index n) const { return n + offset; }
+};
+
+}  // namespace
+
+// Expected: a custom rejector's count outside [0, n] (its contract: it
+// "moves the kept pairs to the front and returns how many it kept") is
+// refused naming "rejection", as every other policy setting is checked.
+// Happened (icp.hpp, Icp::correspond / Registration::match_and_check use
+// the count unchecked): a count of -1 gives E = 0 over "-1 pairs", reported
+// as converged (absolute tolerance) at the initial transform; a count of
+// n + 1 sums and estimates from the pair past the end of the workspace's
+// vector (an out-of-bounds read; here its garbage indices trip an Eigen
+// assertion, SIGABRT).
+TEST_CASE("a custom rejector's count outside [0, n] is refused, not taken as kept pairs" * doctest::skip()) {
+  const Eigen::Matrix3Xd model = random_points(3, 30, 6);
+  const Eigen::Matrix3Xd test = model.array() + 0.05;
+  const ReferenceCloud<double, 3> ref(model);
+  Icp<double, 3, FullRigid, MiscountingRejector> icp;
+  icp.rejection.offset = -31;  // n = 30 test points: -1 kept
+  std::string outcome;
+  try {
+    const auto r = icp.align(ref, test);
+    outcome = "pairs " + std::to_string(r.pairs) + (r.converged ? ", converged" : ", not converged");
+  } catch (const InvalidArgument& e) {
+    outcome = "InvalidArgument " + e.argument();
+  }
+  CHECK(outcome == "InvalidArgument rejection");
+  icp.rejection.offset = 1;  // n + 1 kept: read in a child, since it reads past the pairs
+  CHECK(outcome_in_child([&] {
+          const auto r = icp.align(ref, test);
+          return "pairs " + std::to_string(r.pairs);
+        }) == "InvalidArgument rejection");
+}
