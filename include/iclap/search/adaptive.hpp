@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <type_traits>
 #include <utility>
 
 #include "iclap/core/check.hpp"
@@ -66,6 +67,12 @@ class AdaptiveSearch {
     }
   }
 
+  /// The same for another Eigen type (a MatrixXd, a block, a map); with a
+  /// fixed Dim, DimensionMismatch naming `points` for another row count.
+  template <typename Derived, typename = std::enable_if_t<!std::is_same_v<Derived, CloudType>>>
+  explicit AdaptiveSearch(const Eigen::MatrixBase<Derived>& points, const Settings& settings = {})
+      : AdaptiveSearch(detail::checked_cloud<Scalar, Dim>(points), settings) {}
+
   /// A cloud of your own type (a PointCloudTraits specialisation, see
   /// iclap/core/point_cloud.hpp), read once as `to_cloud<Scalar, Dim>` reads
   /// it: the search of a matrix of the same values. Throws what to_cloud
@@ -91,10 +98,12 @@ class AdaptiveSearch {
   }
 
   /// The same for an Eigen vector; DimensionMismatch naming "query" unless
-  /// its length is `dim()`.
+  /// its length is `dim()` (a search without points answers index -1 to
+  /// any query).
   template <typename Derived>
   Neighbor<Scalar> nearest(const Eigen::MatrixBase<Derived>& query) const {
-    if (dim() > 0) check_dimension(query.size(), dim(), "query");
+    if (size() == 0) return {};  // no point: index -1, whatever the query's length
+    check_dimension(query.size(), dim(), "query");
     const Point<Scalar, Dim> q = query;
     return nearest(q.data());
   }

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -265,6 +266,12 @@ class BruteForceSearch
 #endif
     block_ = std::make_shared<const detail::ScanBlock<Scalar, Dim>>(std::move(points), settings.use_avx2);
   }
+
+  /// The same for another Eigen type (a MatrixXd, a block, a map); with a
+  /// fixed Dim, DimensionMismatch naming `points` for another row count.
+  template <typename Derived, typename = std::enable_if_t<!std::is_same_v<Derived, CloudType>>>
+  explicit BruteForceSearch(const Eigen::MatrixBase<Derived>& points, const Settings& settings = {})
+      : BruteForceSearch(detail::checked_cloud<Scalar, Dim>(points), settings) {}
 
   /// A cloud of your own type (a PointCloudTraits specialisation, see
   /// iclap/core/point_cloud.hpp), read once as `to_cloud<Scalar, Dim>` reads

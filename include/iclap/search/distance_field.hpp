@@ -76,65 +76,14 @@ class TruncatedDistanceField {
   /// kMaxCoordinateVoxels voxels (e.g. millimetres given as metres with a
   /// 1 mm voxel: 1e5 m) or for points spread over more than
   /// kMaxIndexBlocks blocks (a larger voxel, or fewer objects per field).
-  explicit TruncatedDistanceField(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Settings& settings = {},
+  /// DimensionMismatch naming `argument` unless the points have 3 rows.
+  template <typename Derived>
+  explicit TruncatedDistanceField(const Eigen::MatrixBase<Derived>& points, const Settings& settings = {},
                                   const std::string& argument = "points") {
-    validate(settings);
-    check_finite(points, argument);
-    voxel_ = settings.voxel;
-    truncation_ = settings.truncation;
-    cap_ = static_cast<float>(truncation_ * truncation_);
-    const double limit = kMaxCoordinateVoxels * voxel_;
-    for (Index c = 0; c < points.cols(); ++c)
-      for (Index r = 0; r < 3; ++r)
-        if (!(std::abs(points(r, c)) <= limit))
-          throw InvalidArgument(argument, "point " + std::to_string(c) + " has coordinate " + format_value(points(r, c)) +
-                                              " m, beyond the field's range (|v| <= " + format_value(limit) +
-                                              " m at a voxel of " + format_value(voxel_) + " m); check the unit");
-    if (points.cols() == 0) return;
-    const int reach = static_cast<int>(std::ceil(truncation_ / voxel_));
-    // The dense block index covers every node a point can write.
-    Eigen::Array3i lo = Eigen::Array3i::Constant(std::numeric_limits<int>::max());
-    Eigen::Array3i hi = Eigen::Array3i::Constant(std::numeric_limits<int>::min());
-    for (Index c = 0; c < points.cols(); ++c)
-      for (int a = 0; a < 3; ++a) {
-        const int n = static_cast<int>(std::floor(points(a, c) / voxel_));
-        lo(a) = std::min(lo(a), floor_div(n - reach, kBlock));
-        hi(a) = std::max(hi(a), floor_div(n + 1 + reach, kBlock));
-      }
-    const Eigen::Array3d extent = (hi - lo + 1).cast<double>();
-    if (!(extent.prod() <= kMaxIndexBlocks))
-      throw InvalidArgument(argument, "the points span " + format_value(extent.x() * kBlock * voxel_) + " x " +
-                                          format_value(extent.y() * kBlock * voxel_) + " x " +
-                                          format_value(extent.z() * kBlock * voxel_) + " m, more than the field indexes (" +
-                                          format_value(kMaxIndexBlocks) + " blocks of " + std::to_string(kBlock) +
-                                          "^3 voxels of " + format_value(voxel_) + " m); use a larger voxel");
-    block_lo_ = lo;
-    block_n_ = hi - lo + 1;
-    index_.assign(static_cast<std::size_t>(block_n_.prod()), -1);
-    const double inv = 1.0 / voxel_;
-    for (Index c = 0; c < points.cols(); ++c) {
-      const Eigen::Vector3d p = points.col(c);
-      Eigen::Array3i n0, n1;
-      for (int a = 0; a < 3; ++a) {
-        n0(a) = static_cast<int>(std::ceil((p(a) - truncation_) * inv));
-        n1(a) = static_cast<int>(std::floor((p(a) + truncation_) * inv));
-      }
-      for (int k = n0.z(); k <= n1.z(); ++k) {
-        const double dz = k * voxel_ - p.z();
-        for (int j = n0.y(); j <= n1.y(); ++j) {
-          const double dy = j * voxel_ - p.y();
-          const double dyz = dy * dy + dz * dz;
-          if (dyz > truncation_ * truncation_) continue;
-          for (int i = n0.x(); i <= n1.x(); ++i) {
-            const double dx = i * voxel_ - p.x();
-            const auto d2 = static_cast<float>(dx * dx + dyz);
-            if (!(d2 < cap_)) continue;
-            float& v = node(i, j, k);
-            v = std::min(v, d2);
-          }
-        }
-      }
-    }
+    // Checked before the conversion to 3 x n, which asserts (debug) or
+    // reads the wrong rows (release).
+    check_dimension(points.rows(), 3, argument);
+    build(points, settings, argument);
   }
 
   /// A cloud of your own type (a PointCloudTraits specialisation of
@@ -229,6 +178,67 @@ class TruncatedDistanceField {
   }
 
  private:
+  /// The constructor's work on 3 x n points.
+  void build(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Settings& settings, const std::string& argument) {
+    validate(settings);
+    check_finite(points, argument);
+    voxel_ = settings.voxel;
+    truncation_ = settings.truncation;
+    cap_ = static_cast<float>(truncation_ * truncation_);
+    const double limit = kMaxCoordinateVoxels * voxel_;
+    for (Index c = 0; c < points.cols(); ++c)
+      for (Index r = 0; r < 3; ++r)
+        if (!(std::abs(points(r, c)) <= limit))
+          throw InvalidArgument(argument, "point " + std::to_string(c) + " has coordinate " + format_value(points(r, c)) +
+                                              " m, beyond the field's range (|v| <= " + format_value(limit) +
+                                              " m at a voxel of " + format_value(voxel_) + " m); check the unit");
+    if (points.cols() == 0) return;
+    const int reach = static_cast<int>(std::ceil(truncation_ / voxel_));
+    // The dense block index covers every node a point can write.
+    Eigen::Array3i lo = Eigen::Array3i::Constant(std::numeric_limits<int>::max());
+    Eigen::Array3i hi = Eigen::Array3i::Constant(std::numeric_limits<int>::min());
+    for (Index c = 0; c < points.cols(); ++c)
+      for (int a = 0; a < 3; ++a) {
+        const int n = static_cast<int>(std::floor(points(a, c) / voxel_));
+        lo(a) = std::min(lo(a), floor_div(n - reach, kBlock));
+        hi(a) = std::max(hi(a), floor_div(n + 1 + reach, kBlock));
+      }
+    const Eigen::Array3d extent = (hi - lo + 1).cast<double>();
+    if (!(extent.prod() <= kMaxIndexBlocks))
+      throw InvalidArgument(argument, "the points span " + format_value(extent.x() * kBlock * voxel_) + " x " +
+                                          format_value(extent.y() * kBlock * voxel_) + " x " +
+                                          format_value(extent.z() * kBlock * voxel_) + " m, more than the field indexes (" +
+                                          format_value(kMaxIndexBlocks) + " blocks of " + std::to_string(kBlock) +
+                                          "^3 voxels of " + format_value(voxel_) + " m); use a larger voxel");
+    block_lo_ = lo;
+    block_n_ = hi - lo + 1;
+    index_.assign(static_cast<std::size_t>(block_n_.prod()), -1);
+    const double inv = 1.0 / voxel_;
+    for (Index c = 0; c < points.cols(); ++c) {
+      const Eigen::Vector3d p = points.col(c);
+      Eigen::Array3i n0, n1;
+      for (int a = 0; a < 3; ++a) {
+        n0(a) = static_cast<int>(std::ceil((p(a) - truncation_) * inv));
+        n1(a) = static_cast<int>(std::floor((p(a) + truncation_) * inv));
+      }
+      for (int k = n0.z(); k <= n1.z(); ++k) {
+        const double dz = k * voxel_ - p.z();
+        for (int j = n0.y(); j <= n1.y(); ++j) {
+          const double dy = j * voxel_ - p.y();
+          const double dyz = dy * dy + dz * dz;
+          if (dyz > truncation_ * truncation_) continue;
+          for (int i = n0.x(); i <= n1.x(); ++i) {
+            const double dx = i * voxel_ - p.x();
+            const auto d2 = static_cast<float>(dx * dx + dyz);
+            if (!(d2 < cap_)) continue;
+            float& v = node(i, j, k);
+            v = std::min(v, d2);
+          }
+        }
+      }
+    }
+  }
+
   static constexpr int kBlock = 8;
   static constexpr int kBlockNodes = kBlock * kBlock * kBlock;
 

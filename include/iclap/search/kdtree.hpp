@@ -5,6 +5,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include <nanoflann.hpp>
@@ -142,6 +143,12 @@ class KdTreeSearch
       throw InvalidArgument("settings.leaf_max_size", "must be at least 1");
     block_ = std::make_shared<const detail::KdTreeBlock<Scalar, Dim>>(std::move(points), settings.leaf_max_size);
   }
+
+  /// The same for another Eigen type (a MatrixXd, a block, a map); with a
+  /// fixed Dim, DimensionMismatch naming `points` for another row count.
+  template <typename Derived, typename = std::enable_if_t<!std::is_same_v<Derived, CloudType>>>
+  explicit KdTreeSearch(const Eigen::MatrixBase<Derived>& points, const Settings& settings = {})
+      : KdTreeSearch(detail::checked_cloud<Scalar, Dim>(points), settings) {}
 
   /// A cloud of your own type (a PointCloudTraits specialisation, see
   /// iclap/core/point_cloud.hpp), read once as `to_cloud<Scalar, Dim>` reads
