@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
@@ -46,6 +47,11 @@ struct IcpWorkspace {
   /// The pairs the current transform was estimated from (the kept ones
   /// first); swapped with `pairs` at every iteration, never copied.
   std::vector<Correspondence<Scalar>> previous_pairs;
+  /// Counts the registrations started on this workspace. It serves one
+  /// live registration at a time: one started later takes its buffers
+  /// over, and the earlier one's step() and result() then throw
+  /// InvalidArgument naming "workspace" instead of reading them.
+  std::uint64_t registrations = 0;
 };
 
 /// Iterative Closest (Labeled) Point in `Dim` dimensions (paper, Section III;
@@ -192,7 +198,10 @@ class Icp {
   /// iteration at a time. This is what schedules across many registrations
   /// build on (several initial guesses, many objects: run a few iterations of
   /// each, continue with the promising ones). `reference`, `workspace` and
-  /// this Icp must outlive the returned object. Throws like `align`.
+  /// this Icp must outlive the returned object, and the workspace serves
+  /// this registration alone while it is live: give each registration of a
+  /// schedule its own (a later start on it makes this one's step() and
+  /// result() throw, naming "workspace"). Throws like `align`.
   template <typename Search, typename Derived>
   Registration<Search> start(const ReferenceCloud<Scalar, Dim, Search>& reference,
                              const Eigen::MatrixBase<Derived>& test, const Transform* initial,
@@ -329,6 +338,11 @@ class Icp {
     const Index n = P.cols();
     const Acc all = match(P, R, t, reference, y, pairs, hints, b, given);
     kept = rejection.select(pairs.data(), n);
+    // A policy of the user's own that miscounts would make E a sum over
+    // pairs that do not exist (a negative count, or one past the pairs).
+    if (kept < 0 || kept > n)
+      throw InvalidArgument("rejection", "kept " + std::to_string(kept) + " of " + std::to_string(n) +
+                                             " pairs; a rejector returns how many of the n pairs it kept, in [0, n]");
     if (kept == n) return all;
     Acc e = 0;
     for (Index k = 0; k < kept; ++k) e += static_cast<Acc>(pairs[static_cast<std::size_t>(k)].squared_distance);
@@ -374,6 +388,9 @@ class Icp {
       // A search answers "no neighbour" when every squared distance
       // overflows: the coordinates (times the weights) are beyond what the
       // scalar type can square.
+      if (nb.index >= reference.size())
+        throw InvalidArgument("search", "answered reference point " + std::to_string(nb.index) + " of " +
+                                            std::to_string(reference.size()) + " for test point " + std::to_string(i));
       if (nb.index < 0)
         throw InvalidArgument("test", "point " + std::to_string(i) +
                                           " has no finite squared distance to any reference point: the coordinates "
@@ -449,7 +466,7 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
   Registration(const Icp& icp, const ReferenceCloud<Scalar, Dim, Search>& reference,
                const Eigen::MatrixBase<Derived>& test, const Transform* initial, Workspace& ws,
                const Neighbor<Scalar>* first)
-      : icp_(&icp), reference_(&reference), ws_(&ws) {
+      : icp_(&icp), reference_(&reference), ws_(&ws), registration_(++ws.registrations) {
     icp.termination.validate();
     icp.rejection.validate();
     b_ = working_test_points(reference, test, initial, ws);
@@ -476,6 +493,13 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
     match_and_check(first);
   }
 
+  /// Not copyable: a copy would share the workspace and overwrite the
+  /// original's pairs. Movable (schedules keep registrations in vectors).
+  Registration(const Registration&) = delete;
+  Registration& operator=(const Registration&) = delete;
+  Registration(Registration&&) = default;
+  Registration& operator=(Registration&&) = default;
+
   /// True once a stopping rule has fired (or no pair survived rejection).
   bool done() const noexcept { return done_; }
   /// E at the current transform (+infinity without pairs).
@@ -490,6 +514,7 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
   /// again, check the stopping rules. Returns !done(); a no-op once done.
   bool step() {
     if (done_) return false;
+    check_workspace();
     if (fixed_point_) {
       // The pairs matched under the current transform are the pairs it was
       // estimated from: this update would give the same transform, pairs and
@@ -523,6 +548,7 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
   /// The outcome so far (final once done()): the transform in original
   /// coordinates, E, RMSE, and the degeneracy of the current pairs.
   Result result() const {
+    check_workspace();
     Result result;
     result.iterations = iterations_;
     result.stop_reason = reason_;
@@ -614,9 +640,19 @@ class Icp<Scalar, Dim, Model, Rejector, Termination>::Registration {
     check_stop();
   }
 
+  /// The workspace holds this registration's pairs only while no later one
+  /// has started on it.
+  void check_workspace() const {
+    if (ws_->registrations != registration_)
+      throw InvalidArgument("workspace", "another registration was started on this registration's workspace, "
+                                         "which now holds that one's pairs; give each live registration a "
+                                         "workspace of its own");
+  }
+
   const Icp* icp_;
   const ReferenceCloud<Scalar, Dim, Search>* reference_;
   Workspace* ws_;
+  std::uint64_t registration_;
   // Not a std::optional: g++ 12 at -O1 took the payload of an empty one,
   // moved in std::stable_partition of RegistrationClassifier's live
   // registrations, for uninitialised (a -Wmaybe-uninitialized false

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -15,6 +16,13 @@
 #include "iclap/search/adaptive.hpp"
 
 namespace iclap {
+
+/// Whether search policy `Search` keeps its points as the Cloud<Scalar,
+/// Dim> that a ReferenceCloud<Scalar, Dim, Search> reads back as its
+/// working points (KdTreeSearch<double, 3> does for <double, 3>;
+/// KdTreeSearch<double>, whose Dim is Dynamic, does not).
+template <typename Search, typename Scalar, int Dim>
+inline constexpr bool search_keeps_cloud_v = std::is_same_v<typename Search::CloudType, Cloud<Scalar, Dim>>;
 
 /// The model side of a registration, prepared once and shared by any number
 /// of registrations (recognition registers every test against the same
@@ -43,10 +51,14 @@ namespace iclap {
 /// float cloud, 1e39 became inf).
 ///
 /// Immutable after construction; copies share the search structure; const
-/// use is thread-safe.
+/// use is thread-safe. `Search` keeps the working points as a
+/// Cloud<Scalar, Dim> (search_keeps_cloud_v; checked at compile time).
 template <typename Scalar, int Dim, typename Search = AdaptiveSearch<Scalar, Dim>>
 class ReferenceCloud {
   ICLAP_CHECK_SCALAR_AND_DIM(Scalar, Dim);
+  static_assert(search_keeps_cloud_v<Search, Scalar, Dim>,
+                "ReferenceCloud<Scalar, Dim, Search>: the search must keep its points as a Cloud<Scalar, Dim> "
+                "(give it the same Scalar and Dim, e.g. KdTreeSearch<Scalar, Dim>, not KdTreeSearch<Scalar>)");
 
  public:
   using CloudType = Cloud<Scalar, Dim>;
@@ -116,15 +128,20 @@ class ReferenceCloud {
     CloudType work(points.rows(), points.cols());
     const Point<Acc, Dim> c = centroid_acc_;
     const Point<Acc, Dim> w = weights_.template cast<Acc>();
-    for (Index j = 0; j < points.cols(); ++j)
-      work.col(j) = (w.cwiseProduct(points.col(j).template cast<Acc>() - c)).template cast<Scalar>();
+    Acc exact_spread = 0;  // before the cast to Scalar, where a tiny cloud rounds to 0
+    Point<Acc, Dim> centred(points.rows());
+    for (Index j = 0; j < points.cols(); ++j) {
+      centred = w.cwiseProduct(points.col(j).template cast<Acc>() - c);
+      exact_spread = std::max(exact_spread, centred.cwiseAbs().maxCoeff());
+      work.col(j) = centred.template cast<Scalar>();
+    }
     // (Not finite when the centring or the cast overflowed.)
     const Acc spread = work.allFinite() ? static_cast<Acc>(work.cwiseAbs().maxCoeff())
                                         : std::numeric_limits<Acc>::infinity();
     const auto smallest = static_cast<Acc>(smallest_spread<Scalar>());
-    if (spread > 0 && spread < smallest)
+    if (exact_spread > 0 && exact_spread < smallest)
       throw InvalidArgument("points", "largest weighted distance from the centroid is " +
-                                          format_value(static_cast<double>(spread)) + ", below " +
+                                          format_value(static_cast<double>(exact_spread)) + ", below " +
                                           format_value(static_cast<double>(smallest)) +
                                           ": squared distances at this scale underflow the scalar type; rescale "
                                           "the points or the weights");

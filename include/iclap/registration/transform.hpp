@@ -34,9 +34,11 @@ struct RigidTransform {
   Matrix R;
   Vector t;
 
-  /// The identity of dimension `dim` (which must equal `Dim` when it is fixed).
+  /// The identity of dimension `dim` (which must equal `Dim` when it is
+  /// fixed; InvalidArgument naming "dim" when it is negative).
   static RigidTransform identity(Index dim = (Dim > 0 ? Dim : 0)) {
     if (Dim > 0) check_dimension(dim, Dim, "dim");
+    if (dim < 0) throw InvalidArgument("dim", "must be >= 0, got " + std::to_string(dim));
     return {Matrix::Identity(dim, dim), Vector::Zero(dim)};
   }
 
