@@ -739,15 +739,15 @@ int run_evaluate(const Args& args) {
   // settings (one per combination): variants chosen like the weights.
   const std::vector<Method> methods = ro.expand_choices(named, needed);
   const std::vector<std::string> built = ro.expand_choices(needed);
-  // Methods the normalisation cannot fuse (products of z-scores) are an
-  // option error, named now: not as the dataset's, after reading (or
-  // simulating) it.
-  if (s.normalization == Normalization::ZScore) {
+  // Methods the normalisation cannot fuse (products of z-scores or of
+  // min-max distances) are an option error, named now: not as the
+  // dataset's, after reading (or simulating) it.
+  if (s.normalization != Normalization::L2) {
     const Recognizer probe(make_classifiers(ro, built), s.normalization);
     try {
       probe.check(methods);
     } catch (const InvalidArgument& e) {
-      throw UsageError("--normalization zscore: " + e.reason());
+      throw UsageError(std::string("--normalization ") + to_string(s.normalization) + ": " + e.reason());
     }
   }
   const auto t0 = std::chrono::steady_clock::now();
