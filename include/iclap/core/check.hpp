@@ -107,4 +107,19 @@ inline void check_dimension(Eigen::Index actual, Eigen::Index expected, const st
   if (actual != expected) throw DimensionMismatch(argument, expected, actual);
 }
 
+namespace detail {
+
+/// `m` (any Eigen type of Target's scalar: a MatrixXd, a block, a map) as a
+/// `Target` matrix. When Target has a fixed row count, m's rows are checked
+/// first, DimensionMismatch naming `argument`: Eigen's conversion does not
+/// check them in a release build (4 rows were cut to 3, 2 rows read as 3).
+template <typename Target, typename Derived>
+Target checked_rows(const Eigen::MatrixBase<Derived>& m, const std::string& argument) {
+  if constexpr (Target::RowsAtCompileTime != Eigen::Dynamic)
+    check_dimension(m.rows(), Target::RowsAtCompileTime, argument);
+  return Target(m);
+}
+
+}  // namespace detail
+
 }  // namespace iclap

@@ -271,7 +271,7 @@ class BruteForceSearch
   /// fixed Dim, DimensionMismatch naming `points` for another row count.
   template <typename Derived, typename = std::enable_if_t<!std::is_same_v<Derived, CloudType>>>
   explicit BruteForceSearch(const Eigen::MatrixBase<Derived>& points, const Settings& settings = {})
-      : BruteForceSearch(detail::checked_cloud<Scalar, Dim>(points), settings) {}
+      : BruteForceSearch(detail::checked_rows<CloudType>(points, "points"), settings) {}
 
   /// A cloud of your own type (a PointCloudTraits specialisation, see
   /// iclap/core/point_cloud.hpp), read once as `to_cloud<Scalar, Dim>` reads

@@ -148,7 +148,7 @@ class KdTreeSearch
   /// fixed Dim, DimensionMismatch naming `points` for another row count.
   template <typename Derived, typename = std::enable_if_t<!std::is_same_v<Derived, CloudType>>>
   explicit KdTreeSearch(const Eigen::MatrixBase<Derived>& points, const Settings& settings = {})
-      : KdTreeSearch(detail::checked_cloud<Scalar, Dim>(points), settings) {}
+      : KdTreeSearch(detail::checked_rows<CloudType>(points, "points"), settings) {}
 
   /// A cloud of your own type (a PointCloudTraits specialisation, see
   /// iclap/core/point_cloud.hpp), read once as `to_cloud<Scalar, Dim>` reads

@@ -9,16 +9,6 @@
 
 namespace iclap::detail {
 
-/// `points` (another Eigen type: a MatrixXd, a block, a map) as the
-/// search's Cloud<Scalar, Dim>. With a fixed Dim its row count is checked
-/// first, DimensionMismatch naming "points": Eigen's conversion does not
-/// check it in a release build (4 rows were cut to 3, 2 rows read as 3).
-template <typename Scalar, int Dim, typename Derived>
-Cloud<Scalar, Dim> checked_cloud(const Eigen::MatrixBase<Derived>& points) {
-  if constexpr (Dim != Eigen::Dynamic) check_dimension(points.rows(), Dim, "points");
-  return Cloud<Scalar, Dim>(points);
-}
-
 /// What `KdTreeSearch` and `BruteForceSearch` share: the points, kept with
 /// whatever the policy builds from them in one immutable block (`Block`, a
 /// struct with a member `points`) that copies share, so copying a search is

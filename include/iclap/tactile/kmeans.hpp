@@ -336,8 +336,7 @@ class KMeansQuantizer {
   static Features as_features(const Eigen::MatrixBase<Derived>& m, const char* argument) {
     static_assert(std::is_same_v<typename Derived::Scalar, Scalar>,
                   "iclap: KMeansQuantizer takes features of its own Scalar (cast them first)");
-    if constexpr (Dim != Eigen::Dynamic) check_dimension(m.rows(), Dim, argument);
-    return Features(m);
+    return detail::checked_rows<Features>(m, argument);
   }
 
   static void check_features(const Features& features) {
