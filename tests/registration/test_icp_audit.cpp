@@ -4,62 +4,17 @@
 // (Eigen assertions, bad reads) runs in a child process, so that the suite
 // itself would survive a regression.
 
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <csignal>
 #include <string>
 #include <type_traits>
 #include <utility>
 
+#include "../support/child_outcome.hpp"
 #include "../support/errors.hpp"
 #include "icp_test_util.hpp"
 #include "iclap/search/distance_field.hpp"
 
 using namespace iclap;
 using namespace iclap::test;
-
-namespace {
-
-/// Runs `f` (returning a short description of what it saw) in a child
-/// process and returns that description, "DimensionMismatch NAME" /
-/// "InvalidArgument NAME" for an iclap error naming NAME, "other exception",
-/// or "signal N" when the child died (an Eigen assertion aborts).
-template <typename F>
-std::string outcome_in_child(F&& f) {
-  int fds[2];
-  REQUIRE(::pipe(fds) == 0);
-  const pid_t child = ::fork();
-  REQUIRE(child >= 0);
-  if (child == 0) {
-    std::signal(SIGABRT, SIG_DFL);  // doctest's handlers would report the child's crash as well
-    std::signal(SIGSEGV, SIG_DFL);
-    ::close(fds[0]);
-    std::string outcome;
-    try {
-      outcome = f();
-    } catch (const DimensionMismatch& e) {
-      outcome = "DimensionMismatch " + e.argument();
-    } catch (const InvalidArgument& e) {
-      outcome = "InvalidArgument " + e.argument();
-    } catch (...) {
-      outcome = "other exception";
-    }
-    const ssize_t written = ::write(fds[1], outcome.data(), outcome.size());
-    ::_exit(written == static_cast<ssize_t>(outcome.size()) ? 0 : 1);
-  }
-  ::close(fds[1]);
-  std::string outcome;
-  char buf[256];
-  for (ssize_t got; (got = ::read(fds[0], buf, sizeof buf)) > 0;) outcome.append(buf, static_cast<std::size_t>(got));
-  ::close(fds[0]);
-  int status = 0;
-  REQUIRE(::waitpid(child, &status, 0) == child);
-  if (WIFSIGNALED(status)) return "signal " + std::to_string(WTERMSIG(status));
-  return outcome;
-}
-
-}  // namespace
 
 // Expected: a fixed-dimension search given a cloud of another row count (a
 // MatrixXd, as for every other entry point) throws DimensionMismatch naming

@@ -3,12 +3,8 @@
 // histograms and E_BoW, and the whole tactile pipeline with user types.
 #include <doctest/doctest.h>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
-#include <csignal>
 #include <cstring>
 #include <limits>
 #include <numeric>
@@ -23,6 +19,7 @@
 
 #include "iclap/search/kdtree.hpp"
 #include "iclap/tactile/tactile.hpp"
+#include "../support/child_outcome.hpp"
 #include "../support/enum_names.hpp"
 #include "../support/errors.hpp"
 #include "synthetic_contacts.hpp"
@@ -1085,39 +1082,6 @@ TEST_CASE("bag of words: an unsigned word id beyond the range is named by its va
   CHECK(assigned.find("word -1") == std::string::npos);
 }
 
-namespace {
-/// Runs `f` in a child process (an Eigen assertion aborts it, not the test
-/// run) and returns what happened: "argument NAME" for a DimensionMismatch
-/// naming NAME, "(no error)", "other exception" or "signal N".
-template <typename F>
-std::string dimension_outcome_in_child(F&& f) {
-  const pid_t child = ::fork();
-  REQUIRE(child >= 0);
-  if (child == 0) {
-    std::signal(SIGABRT, SIG_DFL);  // doctest's handler would report the crash from the child too
-    int code = 1;  // no error
-    try {
-      f();
-    } catch (const DimensionMismatch& e) {
-      code = e.argument() == "features" ? 10 : e.argument() == "centres" ? 11 : 12;
-    } catch (...) {
-      code = 2;
-    }
-    ::_exit(code);
-  }
-  int status = 0;
-  REQUIRE(::waitpid(child, &status, 0) == child);
-  if (WIFSIGNALED(status)) return "signal " + std::to_string(WTERMSIG(status));
-  switch (WEXITSTATUS(status)) {
-    case 1: return "(no error)";
-    case 10: return "argument features";
-    case 11: return "argument centres";
-    case 12: return "argument other";
-    default: return "other exception";
-  }
-}
-}  // namespace
-
 TEST_CASE("k-means with a fixed Dim: features of another dimension are a DimensionMismatch, not an Eigen assertion") {
   // kmeans.hpp fit / check / from_centres take `const Features&`
   // (Cloud<Scalar, Dim>); a dynamic matrix of another row count converts
@@ -1127,9 +1091,9 @@ TEST_CASE("k-means with a fixed Dim: features of another dimension are a Dimensi
   const Eigen::MatrixXf four = Eigen::MatrixXf::Random(4, 10);
   KMeansQuantizer<float, 3> q;
   q.settings.k = 2;
-  CHECK(dimension_outcome_in_child([&] { q.fit(four); }) == "argument features");
-  CHECK(dimension_outcome_in_child([&] { q.check(four); }) == "argument features");
-  CHECK(dimension_outcome_in_child([&] { (void)KMeansQuantizer<float, 3>::from_centres(four); }) == "argument centres");
+  CHECK(test::outcome_in_child([&] { q.fit(four); }) == "DimensionMismatch features");
+  CHECK(test::outcome_in_child([&] { q.check(four); }) == "DimensionMismatch features");
+  CHECK(test::outcome_in_child([&] { (void)KMeansQuantizer<float, 3>::from_centres(four); }) == "DimensionMismatch centres");
   // The right dimension fits (the helper reports no error).
-  CHECK(dimension_outcome_in_child([&] { q.fit(four.topRows(3)); }) == "(no error)");
+  CHECK(test::outcome_in_child([&] { q.fit(four.topRows(3)); }) == "(no error)");
 }
