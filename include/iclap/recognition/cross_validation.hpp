@@ -186,8 +186,8 @@ class CrossValidation {
   /// Throws at construction for an empty method list, a method that needs
   /// a classifier the factory does not make, or one method given twice
   /// (under one name, or under two spellings of one method_key; all
-  /// InvalidArgument naming "methods"), for invalid settings, for a table whose per-touch vectors
-  /// disagree (TouchTable::validate), and (naming "table") for a table of
+  /// InvalidArgument naming "methods"), for invalid settings, for a table
+  /// whose per-touch vectors disagree (TouchTable::validate), and (naming "table") for a table of
   /// fewer than 2 objects (check_objects_to_choose_among), an object
   /// with fewer than 2 explorations, or fewer than 3 when a method's weights
   /// or trimming are chosen on inner folds.

@@ -112,8 +112,9 @@ class Recognizer {
   /// if not empty) from `test` to every object. If `seconds` is given (one
   /// entry per classifier, in order), each classifier's time is added to it.
   /// Throws InvalidArgument naming "recognizer" before `fit`, naming "only"
-  /// for a name that is no classifier's, and what `normalize` throws for a classifier's NaN, infinite or negative
-  /// distance, naming "distances of 'NAME'" (as DistanceTable::set does).
+  /// for a name that is no classifier's, and what `normalize` throws for a
+  /// classifier's NaN, infinite or negative distance, naming "distances of
+  /// 'NAME'" (as DistanceTable::set does).
   DistanceTable distances(const TouchSet& test, const std::vector<std::string>& only = {},
                           std::vector<double>* seconds = nullptr) const {
     return table_of(only, seconds,
