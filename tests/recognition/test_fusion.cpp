@@ -395,6 +395,16 @@ TEST_CASE("methods with alternatives: renaming and variants") {
   CHECK(with_variants(parse_method("icp"), "patch", {"p1"}).alternatives.empty());
   CHECK(!parse_method("icp").chosen_in_training());
   CHECK(error_of([&] { with_variants(m, "patch", {}); }) == "variants | variants: no variant of classifier 'patch'");
+  // A variant twice would make two identical candidates; a variant that is
+  // another classifier of the method, a candidate with a repeated term
+  // ("bow+bow"). The classifier itself may be one of its variants.
+  CHECK(error_of([&] { with_variants(m, "patch", {"p1", "p2", "p1"}); }) ==
+        "variants | variants: 'p1' is listed twice among the variants of classifier 'patch'");
+  CHECK(error_of([&] { with_variants(m, "patch", {"patch", "bow"}); }) ==
+        "variants | variants: 'bow', a variant of classifier 'patch', is already a classifier of method "
+        "'iclap_patch+patch+bow'");
+  CHECK(with_variants(m, "patch", {"patch", "p1"}).alternatives.size() == 1);
+  CHECK(with_variants(parse_method("icp"), "patch", {"icp"}).alternatives.empty());  // patch unused: unchanged
   // Fitted weights need every alternative to be a sum of as many terms.
   Method bad = parse_method("icp+bow");
   bad.alternatives.push_back(Fusion::classifier("icp"));

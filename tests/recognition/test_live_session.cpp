@@ -562,6 +562,9 @@ TEST_CASE("live session: bad stop rules, vocabularies, words and points are refu
                        doctest::Contains("feature: "), NonFiniteValue);
   CHECK_THROWS_WITH_AS(LiveReferences<>(t, {-1}, oriented_classifiers, codebook(), Fusion::classifier("bow")),
                        "train: touch -1 is outside [0, 240)", InvalidArgument);
+  // A touch listed twice would weigh twice in the codebook and its reference.
+  CHECK_THROWS_WITH_AS(LiveReferences<>(t, {0, 1, 2, 1}, oriented_classifiers, codebook(), Fusion::classifier("bow")),
+                       "train: touch 1 is listed twice", InvalidArgument);
   TouchTable empty;
   empty.objects = {"bar"};
   CHECK_THROWS_WITH_AS(LiveReferences<>(empty, {}, oriented_classifiers, codebook(), Fusion::classifier("bow")),

@@ -88,8 +88,10 @@ struct MethodResult {
   std::vector<Index> correct, total;
   /// fold_correct[f][t], fold_total[f][t]: the same per fold.
   std::vector<std::vector<Index>> fold_correct, fold_total;
+  /// A matrix of test counts, of the counts' type (Index, as `total`).
+  using CountMatrix = Eigen::Matrix<Index, Eigen::Dynamic, Eigen::Dynamic>;
   /// confusion[t](true object, recognised object), summed over folds.
-  std::vector<Eigen::MatrixXi> confusion;
+  std::vector<CountMatrix> confusion;
   /// Weights chosen on each fold's training data (empty unless fitted), in
   /// the order of the method's weighted-sum terms.
   std::vector<std::vector<double>> fold_weights;
@@ -334,7 +336,7 @@ class CrossValidation {
       r.name = m.name;
       r.correct.assign(nt, 0);
       r.total.assign(nt, 0);
-      r.confusion.assign(nt, Eigen::MatrixXi::Zero(n_objects, n_objects));
+      r.confusion.assign(nt, MethodResult::CountMatrix::Zero(n_objects, n_objects));
       result.methods.push_back(std::move(r));
       if (has_sweep(m)) {
         WeightSweep s;

@@ -365,8 +365,9 @@ class LiveReferences {
   /// touch set per object. Throws InvalidArgument naming "table" for a table
   /// of fewer than 2 objects (check_objects_to_choose_among: a session among
   /// one object would be confident of it after any touch) and when an
-  /// object has no training touch, "factory" when it is empty, and what the
-  /// recogniser throws for a fusion it cannot evaluate.
+  /// object has no training touch, "train" for an index outside the table or
+  /// listed twice, "factory" when it is empty, and what the recogniser
+  /// throws for a fusion it cannot evaluate.
   LiveReferences(const TouchTable& table, const std::vector<Index>& train, const ClassifierFactory& factory,
                  Quantizer quantizer, Fusion fusion, Normalization normalization = Normalization::L2)
       : objects_(table.objects),
@@ -385,9 +386,16 @@ class LiveReferences {
       std::iota(all.begin(), all.end(), Index{0});
       use = &all;
     }
-    for (const Index i : *use)
+    std::vector<bool> taken(static_cast<std::size_t>(table.size()), false);
+    for (const Index i : *use) {
       if (i < 0 || i >= table.size())
         throw InvalidArgument("train", "touch " + std::to_string(i) + " is outside [0, " + std::to_string(table.size()) + ")");
+      // A touch listed twice would count twice in the codebook's fit and in
+      // its object's reference, weighting it silently.
+      if (taken[static_cast<std::size_t>(i)])
+        throw InvalidArgument("train", "touch " + std::to_string(i) + " is listed twice");
+      taken[static_cast<std::size_t>(i)] = true;
+    }
     TouchSet train_set = select_touches(table.touches, *use);
     quantizer_.fit(train_set.features);
     train_set.words = assign_words(quantizer_, train_set.features);

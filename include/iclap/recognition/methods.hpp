@@ -75,11 +75,23 @@ struct Method {
 /// for two classifiers gives every combination. The first candidate becomes
 /// `fusion`, the rest `alternatives`; the name stays. A method that does not
 /// use `classifier` is returned unchanged. Throws EmptyInput naming
-/// "variants" for an empty list.
+/// "variants" for an empty list, and InvalidArgument naming "variants" for a
+/// variant listed twice (two identical candidates) or, when `m` uses
+/// `classifier`, one that is another classifier of `m` (a candidate with a
+/// repeated term, "patch+icp" becoming "icp+icp"); `classifier` itself may
+/// be one of its variants.
 inline Method with_variants(const Method& m, const std::string& classifier, const std::vector<std::string>& variants) {
   if (variants.empty()) throw EmptyInput("variants", "no variant of classifier '" + classifier + "'");
+  for (auto v = variants.begin(); v != variants.end(); ++v)
+    if (std::find(variants.begin(), v, *v) != v)
+      throw InvalidArgument("variants",
+                            "'" + *v + "' is listed twice among the variants of classifier '" + classifier + "'");
   const auto used = m.classifiers();
   if (std::find(used.begin(), used.end(), classifier) == used.end()) return m;
+  for (const auto& v : variants)
+    if (v != classifier && std::find(used.begin(), used.end(), v) != used.end())
+      throw InvalidArgument("variants", "'" + v + "', a variant of classifier '" + classifier +
+                                            "', is already a classifier of method '" + m.name + "'");
   std::vector<Fusion> all;
   for (const auto& c : m.candidates())
     for (const auto& v : variants) all.push_back(c.renamed(classifier, v));
