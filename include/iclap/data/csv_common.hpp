@@ -110,22 +110,6 @@ inline std::string object_name_problem(std::string_view name) {
 
 /// Checks that `f` can be written as a row of a file with `columns`; throws
 /// InvalidArgument naming `where` (e.g. "dataset.frames[12]") otherwise.
-/// How far from 1 the norm of a dataset quaternion may be: values written
-/// with 4 significant digits are within it, a zero or a scaled quaternion is
-/// not.
-inline constexpr double kQuaternionNormTolerance = 1e-3;
-
-/// Empty if `q` is a unit quaternion (within kQuaternionNormTolerance), else
-/// what is wrong with it.
-inline std::string quaternion_problem(const Eigen::Quaterniond& q) {
-  const double norm = q.norm();
-  if (std::abs(norm - 1.0) <= kQuaternionNormTolerance) return {};
-  char buf[96];
-  std::snprintf(buf, sizeof buf, "has norm %.6g; the pad orientation must be a unit quaternion (norm 1 +- %g)", norm,
-                kQuaternionNormTolerance);
-  return buf;
-}
-
 inline void validate_frame(const Frame& f, const DatasetColumns& columns, const std::string& where) {
   const std::string problem = object_name_problem(f.object);
   if (!problem.empty()) throw InvalidArgument(where + ".object", quote_text(f.object, 60) + " " + problem);

@@ -2,8 +2,10 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -47,6 +49,22 @@ struct Dataset {
 /// 0.5 % of the WTS's 12-bit full scale (4095), above its idle noise and the
 /// simulator's dead band, below the lightest deliberate touch.
 inline constexpr double kDefaultContactThreshold = 20.0;
+
+/// How far from 1 the norm of a dataset quaternion may be: values written
+/// with 4 significant digits are within it, a zero or a scaled quaternion is
+/// not.
+inline constexpr double kQuaternionNormTolerance = 1e-3;
+
+/// Empty if `q` is a unit quaternion (within kQuaternionNormTolerance), else
+/// what is wrong with it.
+inline std::string quaternion_problem(const Eigen::Quaterniond& q) {
+  const double norm = q.norm();
+  if (std::abs(norm - 1.0) <= kQuaternionNormTolerance) return {};
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "has norm %.6g; the pad orientation must be a unit quaternion (norm 1 +- %g)", norm,
+                kQuaternionNormTolerance);
+  return buf;
+}
 
 namespace detail {
 /// is_contact for a threshold the caller has checked: the loops over a

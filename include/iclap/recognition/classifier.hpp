@@ -186,7 +186,10 @@ class Classifier {
   /// order: exactly those of `distances(select_touches(pool, subset), out)`,
   /// sooner when `prepared` is `prepare_pool(pool)` of this classifier since
   /// its last fit (null: nothing prepared). Throws InvalidArgument naming
-  /// "subset" for an index outside the pool, and whatever `distances` throws.
+  /// "subset" for an index outside the pool, DimensionMismatch /
+  /// InvalidArgument naming "pool.<part>" for parts of `pool` that do not
+  /// fit together (TouchSet::validate_layout), and whatever `distances`
+  /// throws.
   /// A classifier that reads `prepared` refuses one it did not make for
   /// this pool since its last fit (InvalidArgument naming "prepared"; see
   /// PreparedPool::made_for and `checked_preparation`).
@@ -214,8 +217,11 @@ class Classifier {
     return p;
   }
 
-  /// `subset`, after checking that every index names a touch of `pool`.
+  /// `subset`, after checking that every index names a touch of `pool` and
+  /// that selecting touches from `pool` reads nothing outside it
+  /// (TouchSet::validate_layout, naming "pool").
   static const std::vector<Index>& checked_subset(const TouchSet& pool, const std::vector<Index>& subset) {
+    pool.validate_layout("pool");
     for (std::size_t k = 0; k < subset.size(); ++k)
       if (subset[k] < 0 || subset[k] >= pool.size())
         throw InvalidArgument("subset", "entry " + std::to_string(k) + " is touch " + std::to_string(subset[k]) +

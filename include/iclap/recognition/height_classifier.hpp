@@ -34,18 +34,21 @@ inline Eigen::Vector2d height_and_tilt(const Eigen::Vector3d& position, const Ei
 /// flat contact, a line along an edge or a thin handle, a partial patch where
 /// the pad overhangs. Any rigid motion of the points leaves them unchanged.
 ///
-/// Points spread beyond 1e100 or within 1e-100 (whose covariance would
-/// overflow to NaN or underflow to 0) are scaled to unit spread first and
-/// the extents scaled back; others are computed as they are. Needs finite
+/// Points beyond 1e300 in magnitude are measured scaled to unit magnitude,
+/// and points spread beyond 1e100 or within 1e-100 (whose covariance would
+/// overflow to NaN or underflow to 0) are scaled to unit spread first; the
+/// extents are scaled back. Others are computed as they are. Needs finite
 /// points (NonFiniteValue naming "points").
 inline Eigen::Vector2d contact_extents(const Eigen::Ref<const Eigen::Matrix3Xd>& points) {
   check_finite(points, "points");
   if (points.cols() < 2) return Eigen::Vector2d::Zero();
-  // The mean of points of any finite magnitude: scaled down before summing.
+  // Points of any finite magnitude: near the largest double both their sum
+  // and a point's distance from their mean can overflow, so such points are
+  // measured at unit magnitude and their extents (at most that magnitude)
+  // scaled back.
   const double magnitude = points.cwiseAbs().maxCoeff();
-  const Eigen::Vector3d mean = magnitude > 1e300 ? Eigen::Vector3d((points / magnitude).rowwise().mean() * magnitude)
-                                                 : Eigen::Vector3d(points.rowwise().mean());
-  Eigen::Matrix3Xd centred = points.colwise() - mean;
+  if (magnitude > 1e300) return Eigen::Vector2d(contact_extents(points / magnitude) * magnitude);
+  Eigen::Matrix3Xd centred = points.colwise() - Eigen::Vector3d(points.rowwise().mean());
   const double spread = centred.cwiseAbs().maxCoeff();
   if (spread == 0) return Eigen::Vector2d::Zero();
   const bool rescale = spread > 1e100 || spread < 1e-100;

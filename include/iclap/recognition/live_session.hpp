@@ -72,9 +72,13 @@ struct LiveTouch {
 /// The touch of a contact frame: its position and, when the frame has an
 /// orientation, the pad normal, the taxels above `contact_threshold` and the
 /// others placed with `pitch` (as `make_touch_table` does); `feature` and
-/// `word` are the caller's.
+/// `word` are the caller's. Throws InvalidArgument naming
+/// "contact_threshold" unless it is finite and >= 0, "pitch" unless it is
+/// in (0, kLargestTaxelPitch] metres, and "frame.orientation" for an
+/// orientation that is not a unit quaternion.
 inline LiveTouch live_touch_of(const Frame& frame, double contact_threshold, double pitch, Eigen::VectorXf feature,
                                Index word) {
+  detail::check_taxel_placement(frame, contact_threshold, "contact_threshold", pitch);
   LiveTouch t;
   t.position = frame.position;
   t.feature = std::move(feature);

@@ -82,6 +82,18 @@ struct TouchSet {
     }
   }
 
+  /// The part of validate() that selecting touches relies on, O(touches):
+  /// features, words and normals of one column per touch, and contact and
+  /// free offsets that stay within their points. Throws DimensionMismatch /
+  /// InvalidArgument naming `argument` as validate() does.
+  void validate_layout(const std::string& argument) const {
+    if (features.size() > 0) check_dimension(features.cols(), positions.cols(), argument + ".features (touches)");
+    if (words.size() > 0) check_dimension(words.size(), positions.cols(), argument + ".words (touches)");
+    if (has_normals()) check_dimension(normals.cols(), positions.cols(), argument + ".normals (touches)");
+    if (has_contacts()) check_offsets(contact_points, contact_offsets, argument, "contact");
+    if (has_free()) check_offsets(free_points, free_offsets, argument, "free");
+  }
+
  private:
   static Index span(const std::vector<Index>& offsets, Index i) {
     return offsets[static_cast<std::size_t>(i) + 1] - offsets[static_cast<std::size_t>(i)];
@@ -89,12 +101,18 @@ struct TouchSet {
   /// The checks of one kind of per-touch points ("contact" or "free").
   void validate_points(const Eigen::Matrix3Xd& points, const std::vector<Index>& offsets, const std::string& argument,
                        const std::string& kind) const {
+    check_offsets(points, offsets, argument, kind);
+    check_finite(points, argument + "." + kind + "_points");
+  }
+  /// The offsets of one kind of per-touch points: one per touch and one
+  /// more, rising from 0 to the number of points.
+  void check_offsets(const Eigen::Matrix3Xd& points, const std::vector<Index>& offsets, const std::string& argument,
+                     const std::string& kind) const {
     check_dimension(static_cast<Index>(offsets.size()), positions.cols() + 1,
                     argument + "." + kind + "_offsets (touches + 1)");
     if (offsets.front() != 0 || offsets.back() != points.cols() || !std::is_sorted(offsets.begin(), offsets.end()))
       throw InvalidArgument(argument + "." + kind + "_offsets",
                             "must rise from 0 to the number of " + kind + " points (" + std::to_string(points.cols()) + ")");
-    check_finite(points, argument + "." + kind + "_points");
   }
 };
 

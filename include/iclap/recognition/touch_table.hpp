@@ -122,11 +122,31 @@ inline double taxel_pitch_of(const Dataset& dataset, double fallback = 0.0034) {
 
 namespace detail {
 
+/// Throws InvalidArgument naming `threshold_argument` unless `threshold` is
+/// finite and >= 0 (as make_touch_table), "pitch" unless `pitch` is in
+/// (0, kLargestTaxelPitch] metres (as taxel_pitch_of), and
+/// "frame.orientation" for an orientation that is not a unit quaternion (as
+/// the dataset reader): a NaN threshold made every taxel free, a pitch of 0
+/// put every taxel at the pad centre, and a zero quaternion turned like the
+/// identity.
+inline void check_taxel_placement(const Frame& frame, double threshold, const char* threshold_argument,
+                                  double pitch) {
+  check_non_negative(threshold, threshold_argument);
+  if (!(std::isfinite(pitch) && pitch > 0 && pitch <= kLargestTaxelPitch))
+    throw InvalidArgument("pitch", "must be in (0, " + format_value(kLargestTaxelPitch) +
+                                       "] m (a pad's taxels are millimetres apart), got " + format_value(pitch));
+  if (frame.orientation) {
+    const std::string problem = quaternion_problem(*frame.orientation);
+    if (!problem.empty()) throw InvalidArgument("frame.orientation", problem);
+  }
+}
+
 /// The world positions of the taxels of `frame` that were pressed (pressure
 /// above `threshold`; `pressed`) or not (`!pressed`), appended to `out`:
 /// see append_contact_points. Returns the number appended.
 inline Index append_taxel_points(const Frame& frame, double threshold, double pitch, bool pressed,
                                  std::vector<Eigen::Vector3d>& out) {
+  check_taxel_placement(frame, threshold, "threshold", pitch);
   if (!frame.orientation) return 0;
   const Eigen::Matrix3d R = frame.orientation->normalized().toRotationMatrix();
   const double r0 = 0.5 * static_cast<double>(frame.pressures.rows() - 1);
@@ -150,6 +170,9 @@ inline Index append_taxel_points(const Frame& frame, double threshold, double pi
 /// along the rows, y along the columns and z into the object; the frame's
 /// orientation (qw..qz) turns the pad frame into the world. Nothing is
 /// appended for a frame without orientation. Returns the number appended.
+/// Throws InvalidArgument naming "threshold" unless it is finite and >= 0,
+/// "pitch" unless it is in (0, kLargestTaxelPitch] metres, and
+/// "frame.orientation" for an orientation that is not a unit quaternion.
 inline Index append_contact_points(const Frame& frame, double threshold, double pitch, std::vector<Eigen::Vector3d>& out) {
   return detail::append_taxel_points(frame, threshold, pitch, true, out);
 }
@@ -157,7 +180,8 @@ inline Index append_contact_points(const Frame& frame, double threshold, double 
 /// The world positions of the other taxels of `frame` (pressure at or below
 /// `threshold`: where the pad was and the object was not), placed as by
 /// append_contact_points and appended to `out`. Nothing is appended for a
-/// frame without orientation. Returns the number appended.
+/// frame without orientation. Returns the number appended. Throws as
+/// append_contact_points.
 inline Index append_free_points(const Frame& frame, double threshold, double pitch, std::vector<Eigen::Vector3d>& out) {
   return detail::append_taxel_points(frame, threshold, pitch, false, out);
 }
