@@ -41,8 +41,8 @@ TEST_CASE("live audit: live_touch_of(Frame) refuses a contact_threshold that mak
   REQUIRE_NOTHROW(live_touch_of(f, kDefaultContactThreshold, kPitch, Eigen::VectorXf(), 0));
   // make_touch_table throws InvalidArgument naming "contact_threshold" unless
   // it is finite and >= 0. live_touch_of, which places the taxels "as
-  // make_touch_table does", takes NaN (no taxel is pressed: the touch
-  // silently loses its contact points) and -1 (every taxel is pressed).
+  // make_touch_table does", took NaN (no taxel pressed: the touch silently
+  // lost its contact points) and -1 (every taxel pressed).
   for (const double bad : {std::numeric_limits<double>::quiet_NaN(), -1.0,
                            std::numeric_limits<double>::infinity()}) {
     CAPTURE(bad);
@@ -54,7 +54,7 @@ TEST_CASE("live audit: live_touch_of(Frame) refuses a contact_threshold that mak
 TEST_CASE("live audit: live_touch_of(Frame) refuses a taxel pitch outside (0, kLargestTaxelPitch]") {
   const Frame f = oriented_frame();
   // taxel_pitch_of refuses a pitch outside (0, 1] m (a pitch of 0 or 1e308
-  // "placed contact points" wrongly). live_touch_of takes 0 (every contact
+  // "placed contact points" wrongly). live_touch_of took 0 (every contact
   // point at the pad centre), a negative pitch (the pad mirrored) and NaN
   // (NaN points, refused later by add_touch as "contact_points", which the
   // caller did not pass).
@@ -70,9 +70,9 @@ TEST_CASE("live audit: live_touch_of(Frame) refuses a zero orientation quaternio
   f.orientation = Eigen::Quaterniond(0, 0, 0, 0);
   // Frame::orientation is documented unit and the dataset reader refuses a
   // quaternion whose norm is not 1. A zero quaternion has no rotation;
-  // live_touch_of normalises it to zero, which rotates like the identity,
-  // so the touch silently gets the normal (0, 0, 1), which add_touch's unit
-  // check then accepts.
+  // live_touch_of normalised it to zero, which rotates like the identity,
+  // so the touch silently got the normal (0, 0, 1), which add_touch's unit
+  // check then accepted.
   LiveTouch t;
   bool threw = false;
   try {
