@@ -3,11 +3,13 @@
 // live_touch_of and LiveSession accept although the contract (their doc
 // comments, and make_touch_table / the dataset reader, which live_touch_of
 // says it matches) refuses them. Each case reproduced a defect (it failed
-// on the code before its fix); the one marked KNOWN DEFECT is not fixed yet.
+// on the code before its fix).
 #include <doctest/doctest.h>
 
 #include <limits>
 #include <memory>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "iclap/recognition/live_session.hpp"
@@ -85,10 +87,8 @@ TEST_CASE("live audit: live_touch_of(Frame) refuses a zero orientation quaternio
   if (!threw && t.normal) CHECK(*t.normal != Eigen::Vector3d::UnitZ());  // the silent wrong normal
 }
 
-// KNOWN DEFECT, not fixed yet (session 52): skipped so that the suite stays
-// green; it fails with --no-skip. Remove the skip with the fix.
-TEST_CASE("live audit: a first touch whose descriptor length differs from the references' is refused naming feature" *
-          doctest::skip()) {
+// Fixed in session 53 (Classifier::descriptor_length); skipped until then.
+TEST_CASE("live audit: a first touch whose descriptor length differs from the references' is refused naming feature") {
   test::SyntheticTableSettings settings;
   settings.touches_per_exploration = 10;
   const TouchTable t = test::synthetic_table(3, settings);
@@ -116,4 +116,53 @@ TEST_CASE("live audit: a first touch whose descriptor length differs from the re
           "feature");
     CHECK(s.touches() == 0);
   }
+  LiveSession s = refs.session();
+  CHECK(s.add_touch(Eigen::Vector3d(0.01, 0, 0.01), Eigen::VectorXf::Zero(4), 0) == s.stop());
+  CHECK(s.touches() == 1);
+  // A fusion without iclapn reads no descriptor: a touch may come without.
+  const LiveReferences<> words_only(t, {}, factory, q, parse_method("0.5*iclap+0.5*bow").fusion);
+  LiveSession w = words_only.session();
+  REQUIRE_NOTHROW(w.add_touch(Eigen::Vector3d(0.01, 0, 0.01), Eigen::VectorXf(), 0));
+  CHECK(w.touches() == 1);
+}
+
+namespace {
+/// A classifier that says it reads descriptors of `length` (its distances
+/// are all 0): stands for a user's own.
+class DescriptorReader final : public Classifier {
+ public:
+  DescriptorReader(std::string name, Index length) : name_(std::move(name)), length_(length) {}
+  std::string name() const override { return name_; }
+  void fit(const std::vector<TouchSet>& objects, Index) override { objects_ = static_cast<Index>(objects.size()); }
+  void distances(const TouchSet&, Eigen::Ref<Eigen::VectorXd> out) const override { out.setZero(); }
+  Index objects() const override { return objects_; }
+  Index descriptor_length() const override { return length_; }
+
+ private:
+  std::string name_;
+  Index length_;
+  Index objects_ = 0;
+};
+}  // namespace
+
+TEST_CASE("Recognizer::descriptor_length: the length its classifiers that read descriptors need, one for all") {
+  auto make = [](Index a, Index b) {
+    std::vector<std::unique_ptr<Classifier>> cs;
+    cs.push_back(std::make_unique<DescriptorReader>("a", a));
+    cs.push_back(std::make_unique<DescriptorReader>("b", b));
+    cs.push_back(std::make_unique<DescriptorReader>("none", 0));
+    return Recognizer(std::move(cs));
+  };
+  CHECK(make(0, 0).descriptor_length() == 0);
+  CHECK(make(0, 7).descriptor_length() == 7);
+  CHECK(make(7, 7).descriptor_length() == 7);
+  const Recognizer mixed = make(5, 7);
+  CHECK_THROWS_WITH_AS(mixed.descriptor_length(),
+                       "recognizer: classifiers 'a' and 'b' need descriptors of different lengths (5 and 7)",
+                       InvalidArgument);
+  // Only the classifiers named count.
+  CHECK(mixed.descriptor_length({"a"}) == 5);
+  CHECK(mixed.descriptor_length({"b", "none"}) == 7);
+  CHECK(mixed.descriptor_length({"none"}) == 0);
+  CHECK(test::argument_of([&] { (void)mixed.descriptor_length({"c"}); }) == "only");
 }

@@ -93,6 +93,36 @@ TEST_CASE("registration classifiers refuse bad settings and inputs, naming them"
   }
 }
 
+TEST_CASE("iclapn: every object of a fit has descriptors of one length, which a refit may change") {
+  const TouchSet s = square();
+  TouchSet longer = s;
+  longer.features = Eigen::MatrixXf::Zero(3, 4);
+  IclapNClassifier<> iclapn;
+  CHECK(iclapn.descriptor_length() == 0);  // before a fit
+  // Objects whose descriptors differ in length: they were accepted, and a
+  // test was then checked against objects[0]'s references only.
+  CHECK_THROWS_WITH_AS(iclapn.fit({s, longer}, 4),
+                       "objects[1] (embedded point dimension, as objects[0]'s): has dimension 6, expected 5",
+                       DimensionMismatch);
+  CHECK(iclapn.objects() == 0);
+  iclapn.fit({s, s}, 4);
+  CHECK(iclapn.descriptor_length() == 2);
+  // A refit replaces the references: it was checked against the old ones.
+  REQUIRE_NOTHROW(iclapn.fit({longer, longer}, 4));
+  CHECK(iclapn.descriptor_length() == 3);
+  Eigen::VectorXd d(2);
+  CHECK(argument_of([&] { iclapn.distances(s, d); }) == "test (embedded point dimension)");
+  iclapn.distances(longer, d);
+  CHECK(d(0) < 1e-20);
+  // The classifiers that read no descriptor need none.
+  IcpClassifier<double> icp;
+  IclapClassifier<double> iclap;
+  icp.fit({s}, 4);
+  iclap.fit({s}, 4);
+  CHECK(icp.descriptor_length() == 0);
+  CHECK(iclap.descriptor_length() == 0);
+}
+
 TEST_CASE("embeddings: positions in metres, a word step weighs label_scale, a descriptor unit descriptor_scale") {
   // The test is the reference raised by 1 mm, with every word one step and
   // every first descriptor value one unit off: no planar motion helps, each

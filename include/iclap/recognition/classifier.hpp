@@ -173,6 +173,16 @@ class Classifier {
   /// Number of objects of the last fit (0 before).
   virtual Index objects() const = 0;
 
+  /// The descriptor length (rows of TouchSet::features) that `distances`
+  /// needs of a test: that of the last fit's references for a classifier
+  /// that reads descriptors (iclapn), 0 for one that reads none (the
+  /// default) and before a fit. A live session checks every touch's
+  /// descriptor against it (LiveSession::add_touch), so that a touch
+  /// without one, or with one of another length, is refused naming
+  /// "feature" before the classifier sees it: override it in a classifier
+  /// of your own that reads descriptors.
+  virtual Index descriptor_length() const { return 0; }
+
   /// Work that depends on single touches of `pool` only, done once for all
   /// the tests `pool_distances` draws from it (cross validation draws many
   /// subsets of each held-out exploration). Null when the classifier has

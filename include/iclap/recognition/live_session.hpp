@@ -50,8 +50,9 @@
 namespace iclap {
 
 /// One touch as a live session receives it. `position`: pad centre
-/// (metres, the references' frame); `feature`: its descriptor (may be empty
-/// when no classifier of the fusion reads descriptors); `word`: its codebook
+/// (metres, the references' frame); `feature`: its descriptor (of the
+/// references' length when a classifier of the fusion reads descriptors,
+/// Classifier::descriptor_length; else it may be empty); `word`: its codebook
 /// word. When the pad orientation is known (a dataset with qw..qz, the
 /// Phantom Omni's gimbal), `normal` is the pad's z axis in the world (unit;
 /// the height classifier needs it) and `contact_points` the world positions
@@ -209,11 +210,14 @@ class LiveSession {
     if (recognizer.objects() < 1) throw InvalidArgument("recognizer", "is not fitted (no object to recognise)");
     detail::check_live_normalization(recognizer.normalization(), "normalization");
     recognizer.check({Method{fusion_.to_string(), fusion_, false, {}}});
+    descriptor_length_ = recognizer.descriptor_length(only_);
     touches_.positions.resize(3, 0);
   }
 
   /// Adds one touch and updates the ranking. Every touch of a session
-  /// carries the same information: descriptors of one length, and the pad
+  /// carries the same information: descriptors of one length (the
+  /// references', Recognizer::descriptor_length, when a classifier of the
+  /// fusion reads them: checked from the first touch on), and the pad
   /// orientation (a normal, with the contact points) on every touch or on
   /// none (the first touch decides). Throws NonFiniteValue /
   /// DimensionMismatch / InvalidArgument naming the field ("position",
@@ -227,6 +231,7 @@ class LiveSession {
       throw InvalidArgument("word", std::to_string(touch.word) + " is outside [0, " +
                                         (vocabulary_ > 0 ? std::to_string(vocabulary_) : std::string("inf")) + ")");
     const Index n = touches_.size();
+    if (descriptor_length_ > 0) check_dimension(touch.feature.size(), descriptor_length_, "feature");
     if (n > 0) check_dimension(touch.feature.size(), touches_.features.rows(), "feature");
     if (touch.normal) {
       check_finite(*touch.normal, "normal");
@@ -343,6 +348,7 @@ class LiveSession {
   LiveStopRule rule_;
   Index vocabulary_ = 0;
   std::vector<std::string> only_;
+  Index descriptor_length_ = 0;  // the fusion's classifiers' (0: none reads descriptors)
   TouchSet touches_;
   DistanceTable table_;
   Eigen::VectorXd fused_;

@@ -157,6 +157,28 @@ class Recognizer {
     });
   }
 
+  /// The descriptor length a test needs for the classifiers named in `only`
+  /// (all, if empty): their Classifier::descriptor_length other than 0, or
+  /// 0 when none of them reads descriptors. Throws InvalidArgument naming
+  /// "only" as `distances` does, and naming "recognizer" when two of them
+  /// need different lengths (fitted on different references).
+  Index descriptor_length(const std::vector<std::string>& only = {}) const {
+    check_only(only);
+    Index length = 0;
+    const Classifier* by = nullptr;
+    for (const auto& c : classifiers_) {
+      const Index l = wanted(*c, only) ? c->descriptor_length() : 0;
+      if (l == 0) continue;
+      if (by && l != length)
+        throw InvalidArgument("recognizer", "classifiers '" + by->name() + "' and '" + c->name() +
+                                                "' need descriptors of different lengths (" + std::to_string(length) +
+                                                " and " + std::to_string(l) + ")");
+      length = l;
+      by = c.get();
+    }
+    return length;
+  }
+
   Normalization normalization() const noexcept { return normalization_; }
   const std::vector<std::unique_ptr<Classifier>>& classifiers() const noexcept { return classifiers_; }
 

@@ -84,6 +84,9 @@ struct DescriptorEmbedding {
   /// A set's points are its touches' points in order, each touch's from that
   /// touch alone (see RegistrationClassifier::prepare_pool).
   static constexpr bool per_touch = true;
+  /// Tests need descriptors of the references' length
+  /// (RegistrationClassifier::descriptor_length).
+  static constexpr bool reads_descriptors = true;
   double descriptor_scale = 0.01;
   Index dim(const TouchSet& touches) const noexcept { return 3 + touches.features.rows(); }
   void validate() const {
@@ -222,6 +225,13 @@ struct embeds_per_touch : std::false_type {};
 template <typename E>
 struct embeds_per_touch<E, std::void_t<decltype(E::per_touch)>> : std::bool_constant<E::per_touch> {};
 
+/// Does embedding E put the touches' descriptors into its points (`static
+/// constexpr bool reads_descriptors = true`)? Without the member: no.
+template <typename E, typename = void>
+struct embeds_descriptors : std::false_type {};
+template <typename E>
+struct embeds_descriptors<E, std::void_t<decltype(E::reads_descriptors)>> : std::bool_constant<E::reads_descriptors> {};
+
 template <typename E, typename Scalar, int Dim, typename = void>
 struct has_embed_reference : std::false_type {};
 template <typename E, typename Scalar, int Dim>
@@ -359,7 +369,11 @@ class RegistrationClassifier final : public Classifier {
     for (std::size_t j = 0; j < objects.size(); ++j) {
       const std::string arg = "objects[" + std::to_string(j) + "]";
       objects[j].validate(arg);
-      check_embedded_dimension(objects[j], arg);
+      // Against objects[0], not the references of an earlier fit, which
+      // this one replaces (it may embed descriptors of another length).
+      check_dimension(embedding.dim(objects[j]), Dim > 0 ? Index{Dim} : embedding.dim(objects.front()),
+                      arg + (Dim > 0 || j == 0 ? " (embedded point dimension)"
+                                               : " (embedded point dimension, as objects[0]'s)"));
       check_touch_range(objects[j], arg);  // before the embedding, which may bin the coordinates
       if constexpr (detail::has_embed_reference<Embedding, Scalar, Dim>::value)
         embedding.template embed_reference<Scalar, Dim>(objects[j], points);
@@ -391,8 +405,13 @@ class RegistrationClassifier final : public Classifier {
     }
     references_ = std::move(refs);
     fixed_ = std::move(fixed);
+    descriptor_length_ = detail::embeds_descriptors<Embedding>::value ? objects.front().features.rows() : 0;
     fit_id_ = detail::next_fit_id();
   }
+
+  /// The references' descriptor length for an embedding that reads
+  /// descriptors (`reads_descriptors`: iclapn), else 0; 0 before `fit`.
+  Index descriptor_length() const override { return descriptor_length_; }
 
   void distances(const TouchSet& test, Eigen::Ref<Eigen::VectorXd> out) const override {
     compute_distances(test, nullptr, nullptr, out);
@@ -759,6 +778,7 @@ class RegistrationClassifier final : public Classifier {
 
   std::vector<Reference> references_;
   std::vector<AdaptiveSearch<Scalar, Eigen::Dynamic>> fixed_;
+  Index descriptor_length_ = 0;  // see descriptor_length()
   std::uint64_t fit_id_ = 0;  // detail::next_fit_id() of the last fit, 0 before
 };
 
