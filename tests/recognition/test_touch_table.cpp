@@ -144,6 +144,24 @@ TEST_CASE("touch table: a descriptor whose length changes between frames is refu
         "features of dataset.frames[2]");
 }
 
+// A hand-built dataset's contact frame with a quaternion that is not a unit
+// one was refused by append_contact_points as "frame.orientation", which did
+// not say which frame (the reader refuses such a row naming its line).
+TEST_CASE("touch table: a contact frame whose orientation is not a unit quaternion is refused, naming the frame") {
+  std::vector<Frame> frames{frame("a", 0, 0, 90.0), frame("a", 0, 1, 0.0), frame("a", 0, 2, 90.0)};
+  for (Frame& f : frames) f.orientation = kDown;
+  REQUIRE_NOTHROW(make_touch_table(wts_dataset(frames), RawPressures<float>{}, 20.0));
+  for (const Eigen::Quaterniond& bad : {Eigen::Quaterniond(0, 0, 0, 0), Eigen::Quaterniond(2, 0, 0, 0)}) {
+    frames[2].orientation = bad;
+    CHECK(test::argument_of([&] { (void)make_touch_table(wts_dataset(frames), RawPressures<float>{}, 20.0); }) ==
+          "dataset.frames[2].orientation");
+  }
+  // An idle frame's orientation places nothing: it is not read.
+  frames[2].orientation = kDown;
+  frames[1].orientation = Eigen::Quaterniond(0, 0, 0, 0);
+  CHECK(make_touch_table(wts_dataset(frames), RawPressures<float>{}, 20.0).size() == 2);
+}
+
 // A descriptor that returns an empty feature breaks the Descriptor concept
 // (tactile/descriptor.hpp: N positive); extract_features refuses it naming
 // "features", but make_touch_table built a table with 0 x n features, which

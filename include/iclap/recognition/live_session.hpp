@@ -92,10 +92,10 @@ inline LiveTouch live_touch_of(const Frame& frame, double contact_threshold, dou
       return m;
     };
     std::vector<Eigen::Vector3d> points;
-    append_contact_points(frame, contact_threshold, pitch, points);
+    detail::place_taxels(frame, contact_threshold, pitch, true, points);
     t.contact_points = as_matrix(points);
     points.clear();
-    append_free_points(frame, contact_threshold, pitch, points);
+    detail::place_taxels(frame, contact_threshold, pitch, false, points);
     t.free_points = as_matrix(points);
   }
   return t;

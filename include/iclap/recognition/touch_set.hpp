@@ -58,22 +58,19 @@ struct TouchSet {
   /// Number of free points of touch i (0 without free points).
   Index free_of(Index i) const { return has_free() ? span(free_offsets, i) : 0; }
 
-  /// Throws EmptyInput / DimensionMismatch / NonFiniteValue naming
-  /// `argument` when the set is empty, its parts disagree in length (parts
-  /// left empty are allowed: a classifier that needs them checks), or a
-  /// coordinate is not finite.
+  /// Throws EmptyInput naming `argument` when the set is empty, what
+  /// validate_layout() throws when its parts disagree in length (parts left
+  /// empty are allowed: a classifier that needs them checks), NonFiniteValue
+  /// for a coordinate that is not finite and InvalidArgument for a normal
+  /// that is not a unit vector, in that order.
   void validate(const std::string& argument) const {
     if (positions.cols() == 0) throw EmptyInput(argument, "holds no touch");
+    validate_layout(argument);
     check_finite(positions, argument + ".positions");
-    if (features.size() > 0) {
-      check_dimension(features.cols(), positions.cols(), argument + ".features (touches)");
-      check_finite(features, argument + ".features");
-    }
-    if (words.size() > 0) check_dimension(words.size(), positions.cols(), argument + ".words (touches)");
-    if (has_contacts()) validate_points(contact_points, contact_offsets, argument, "contact");
-    if (has_free()) validate_points(free_points, free_offsets, argument, "free");
+    if (features.size() > 0) check_finite(features, argument + ".features");
+    if (has_contacts()) check_finite(contact_points, argument + ".contact_points");
+    if (has_free()) check_finite(free_points, argument + ".free_points");
     if (has_normals()) {
-      check_dimension(normals.cols(), positions.cols(), argument + ".normals (touches)");
       check_finite(normals, argument + ".normals");
       for (Index i = 0; i < normals.cols(); ++i)
         if (std::abs(normals.col(i).norm() - 1.0) > 1e-6)
@@ -84,8 +81,9 @@ struct TouchSet {
 
   /// The part of validate() that selecting touches relies on, O(touches):
   /// features, words and normals of one column per touch, and contact and
-  /// free offsets that stay within their points. Throws DimensionMismatch /
-  /// InvalidArgument naming `argument` as validate() does.
+  /// free offsets (one per touch and one more) that rise from 0 to the
+  /// number of their points. Throws DimensionMismatch / InvalidArgument
+  /// naming `argument`.<part>.
   void validate_layout(const std::string& argument) const {
     if (features.size() > 0) check_dimension(features.cols(), positions.cols(), argument + ".features (touches)");
     if (words.size() > 0) check_dimension(words.size(), positions.cols(), argument + ".words (touches)");
@@ -97,12 +95,6 @@ struct TouchSet {
  private:
   static Index span(const std::vector<Index>& offsets, Index i) {
     return offsets[static_cast<std::size_t>(i) + 1] - offsets[static_cast<std::size_t>(i)];
-  }
-  /// The checks of one kind of per-touch points ("contact" or "free").
-  void validate_points(const Eigen::Matrix3Xd& points, const std::vector<Index>& offsets, const std::string& argument,
-                       const std::string& kind) const {
-    check_offsets(points, offsets, argument, kind);
-    check_finite(points, argument + "." + kind + "_points");
   }
   /// The offsets of one kind of per-touch points: one per touch and one
   /// more, rising from 0 to the number of points.

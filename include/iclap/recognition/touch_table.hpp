@@ -93,6 +93,13 @@ struct TouchTable {
 /// hundred times a real pad's (the WTS 0614-34A's is 3.4 mm).
 constexpr double kLargestTaxelPitch = 1.0;
 
+namespace detail {
+/// Whether `pitch` is a taxel pitch: in (0, kLargestTaxelPitch] metres.
+inline bool pitch_in_range(double pitch) noexcept {
+  return std::isfinite(pitch) && pitch > 0 && pitch <= kLargestTaxelPitch;
+}
+}  // namespace detail
+
 /// The taxel pitch of a dataset, metres: the `pitch_m=` value of a comment
 /// such as "sensor: WTS 0614-34A rows=14 cols=6 pitch_m=0.0034" (what the
 /// recorder and the simulator write), otherwise `fallback` (the WTS 0614-34A's
@@ -108,7 +115,7 @@ inline double taxel_pitch_of(const Dataset& dataset, double fallback = 0.0034) {
     // "0.0034" as 0 where the decimal separator is a comma).
     double v = 0;
     const auto read = std::from_chars(c.data() + at + 8, c.data() + c.size(), v);
-    if (read.ec == std::errc() && std::isfinite(v) && v > 0 && v <= kLargestTaxelPitch) return v;
+    if (read.ec == std::errc() && detail::pitch_in_range(v)) return v;
     throw InvalidArgument("dataset", "the pitch_m= of comment " + quote_text(c, 120) +
                                          (read.ec == std::errc::invalid_argument ? std::string(" is not a number")
                                           : read.ec == std::errc::result_out_of_range
@@ -122,31 +129,35 @@ inline double taxel_pitch_of(const Dataset& dataset, double fallback = 0.0034) {
 
 namespace detail {
 
+/// Throws InvalidArgument naming `orientation_argument` when `frame` has an
+/// orientation that is not a unit quaternion (as the dataset reader): a
+/// zero quaternion turned like the identity.
+inline void check_frame_orientation(const Frame& frame, const std::string& orientation_argument) {
+  if (!frame.orientation) return;
+  const std::string problem = quaternion_problem(*frame.orientation);
+  if (!problem.empty()) throw InvalidArgument(orientation_argument, problem);
+}
+
 /// Throws InvalidArgument naming `threshold_argument` unless `threshold` is
 /// finite and >= 0 (as make_touch_table), "pitch" unless `pitch` is in
 /// (0, kLargestTaxelPitch] metres (as taxel_pitch_of), and
-/// "frame.orientation" for an orientation that is not a unit quaternion (as
-/// the dataset reader): a NaN threshold made every taxel free, a pitch of 0
-/// put every taxel at the pad centre, and a zero quaternion turned like the
-/// identity.
+/// "frame.orientation" as check_frame_orientation: a NaN threshold made
+/// every taxel free and a pitch of 0 put every taxel at the pad centre.
 inline void check_taxel_placement(const Frame& frame, double threshold, const char* threshold_argument,
                                   double pitch) {
   check_non_negative(threshold, threshold_argument);
-  if (!(std::isfinite(pitch) && pitch > 0 && pitch <= kLargestTaxelPitch))
+  if (!pitch_in_range(pitch))
     throw InvalidArgument("pitch", "must be in (0, " + format_value(kLargestTaxelPitch) +
                                        "] m (a pad's taxels are millimetres apart), got " + format_value(pitch));
-  if (frame.orientation) {
-    const std::string problem = quaternion_problem(*frame.orientation);
-    if (!problem.empty()) throw InvalidArgument("frame.orientation", problem);
-  }
+  check_frame_orientation(frame, "frame.orientation");
 }
 
 /// The world positions of the taxels of `frame` that were pressed (pressure
 /// above `threshold`; `pressed`) or not (`!pressed`), appended to `out`:
-/// see append_contact_points. Returns the number appended.
-inline Index append_taxel_points(const Frame& frame, double threshold, double pitch, bool pressed,
-                                 std::vector<Eigen::Vector3d>& out) {
-  check_taxel_placement(frame, threshold, "threshold", pitch);
+/// see append_contact_points, which checks what this takes as checked
+/// (check_taxel_placement). Returns the number appended.
+inline Index place_taxels(const Frame& frame, double threshold, double pitch, bool pressed,
+                          std::vector<Eigen::Vector3d>& out) {
   if (!frame.orientation) return 0;
   const Eigen::Matrix3d R = frame.orientation->normalized().toRotationMatrix();
   const double r0 = 0.5 * static_cast<double>(frame.pressures.rows() - 1);
@@ -174,7 +185,8 @@ inline Index append_taxel_points(const Frame& frame, double threshold, double pi
 /// "pitch" unless it is in (0, kLargestTaxelPitch] metres, and
 /// "frame.orientation" for an orientation that is not a unit quaternion.
 inline Index append_contact_points(const Frame& frame, double threshold, double pitch, std::vector<Eigen::Vector3d>& out) {
-  return detail::append_taxel_points(frame, threshold, pitch, true, out);
+  detail::check_taxel_placement(frame, threshold, "threshold", pitch);
+  return detail::place_taxels(frame, threshold, pitch, true, out);
 }
 
 /// The world positions of the other taxels of `frame` (pressure at or below
@@ -183,7 +195,8 @@ inline Index append_contact_points(const Frame& frame, double threshold, double 
 /// frame without orientation. Returns the number appended. Throws as
 /// append_contact_points.
 inline Index append_free_points(const Frame& frame, double threshold, double pitch, std::vector<Eigen::Vector3d>& out) {
-  return detail::append_taxel_points(frame, threshold, pitch, false, out);
+  detail::check_taxel_placement(frame, threshold, "threshold", pitch);
+  return detail::place_taxels(frame, threshold, pitch, false, out);
 }
 
 /// Builds the touch table of `dataset`: keeps the frames whose largest taxel
@@ -193,8 +206,11 @@ inline Index append_free_points(const Frame& frame, double threshold, double pit
 /// `taxel_pitch_of`); when every
 /// contact frame has an orientation, the pad normals (`TouchSet::normals`).
 /// Throws InvalidArgument naming "contact_threshold" unless it is finite
-/// and >= 0, EmptyInput naming "dataset" when no frame is a contact, and what
-/// taxel_pitch_of throws when a contact frame has an orientation. What the
+/// and >= 0, EmptyInput naming "dataset" when no frame is a contact, what
+/// taxel_pitch_of throws when a contact frame has an orientation, and
+/// InvalidArgument naming "dataset.frames[I].orientation" for a contact
+/// frame's orientation that is not a unit quaternion (a hand-built
+/// dataset's; the reader refuses one). What the
 /// descriptor returns is checked as extract_features checks it, naming the
 /// frame (`dataset.frames[I]`): its plain InvalidArgument about "image"
 /// names the frame instead; an empty feature is EmptyInput, a length that
@@ -240,12 +256,15 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
   for (Index j = 0; j < n; ++j) {
     const Frame& f = dataset.frames[kept[static_cast<std::size_t>(j)]];
     const auto ju = static_cast<std::size_t>(j);
+    const auto frame_name = [i = kept[ju]] { return "dataset.frames[" + std::to_string(i) + "]"; };
+    // The threshold and pitch are checked above, once (taxel_pitch_of
+    // returns a pitch in range); a hand-built dataset's orientation here.
+    if (f.orientation) detail::check_frame_orientation(f, frame_name() + ".orientation");
     t.touches.positions.col(j) = f.position;
     if (oriented) t.touches.normals.col(j) = f.orientation->normalized() * Eigen::Vector3d::UnitZ();
     t.object[ju] = index[f.object];
     t.exploration[ju] = f.exploration;
     t.frame[ju] = f.frame;
-    const auto frame_name = [i = kept[ju]] { return "dataset.frames[" + std::to_string(i) + "]"; };
     // As extract_features: the descriptor's own complaint about its "image"
     // names the frame.
     const auto feature =
@@ -267,8 +286,8 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
         throw InvalidArgument("features of " + frame_name(),
                               "coordinate " + std::to_string(k) + " is " + format_value(static_cast<double>(feature(k))) +
                                   ", beyond the range of float, in which a touch table keeps features");
-    offsets.push_back(offsets.back() + append_contact_points(f, contact_threshold, pitch, contacts));
-    free_offsets.push_back(free_offsets.back() + append_free_points(f, contact_threshold, pitch, free));
+    offsets.push_back(offsets.back() + detail::place_taxels(f, contact_threshold, pitch, true, contacts));
+    free_offsets.push_back(free_offsets.back() + detail::place_taxels(f, contact_threshold, pitch, false, free));
     if (progress && (j % 256 == 0 || j + 1 == n)) progress(static_cast<std::size_t>(j + 1), kept.size());
   }
   check_finite(t.touches.features, "features");
