@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 #include <type_traits>
+#include <typeinfo>
 #include <utility>
 #include <vector>
 
@@ -165,7 +166,8 @@ class KMeansQuantizer {
   /// A quantizer whose words are the given centres (one per column), e.g. a
   /// codebook read back from a file; settings.k becomes centres.cols() and
   /// settings.ordering is not applied. Throws EmptyInput / NonFiniteValue
-  /// naming "centres".
+  /// naming "centres", and what the Search throws for settings.search
+  /// (naming "settings.search.X").
   static KMeansQuantizer from_centres(Features centres, const Settings& s = {}) {
     check_not_empty(centres, "centres");
     check_finite(centres, "centres");
@@ -326,6 +328,7 @@ class KMeansQuantizer {
     if (initial_centres.cols() != settings.k)
       throw InvalidArgument("initial_centres", "has " + std::to_string(initial_centres.cols()) +
                                                    " columns but settings.k is " + std::to_string(settings.k));
+    check_search_settings(features);
     const Index distinct = count_distinct(features);
     if (settings.k > distinct) throw too_many_words(distinct);
     return run(features, initial_centres, progress);
@@ -360,6 +363,26 @@ class KMeansQuantizer {
     if (settings.k > n)
       throw InvalidArgument("settings.k", "k = " + std::to_string(settings.k) +
                                               " exceeds the number of features (" + std::to_string(n) + ")");
+    check_search_settings(features);
+  }
+
+  /// Refuses settings.search as building the Search of the centres would
+  /// (make_search), before any k-means work: on one feature (checked), so
+  /// that check() finds what fit() would, and fit() does not find it only
+  /// after the whole run (with pruning, the search is built at the end).
+  void check_search_settings(const Features& features) const { (void)make_search(features.leftCols(1)); }
+
+  /// The Search of `centres` with settings.search. Its InvalidArgument
+  /// naming "settings.X" (a setting of the search's own Settings) is thrown
+  /// again naming "settings.search.X", the member the caller set.
+  Search make_search(const Features& centres) const {
+    try {
+      return Search(centres, settings.search);
+    } catch (const InvalidArgument& e) {
+      const std::string prefix = "settings.";
+      if (typeid(e) != typeid(InvalidArgument) || e.argument().compare(0, prefix.size(), prefix) != 0) throw;
+      throw InvalidArgument("settings.search." + e.argument().substr(prefix.size()), e.reason());
+    }
   }
 
   InvalidArgument too_many_words(Index distinct) const {
@@ -494,7 +517,7 @@ class KMeansQuantizer {
 
     // Plain Lloyd step: every feature is a query to the Search policy.
     const auto assign_with_policy = [&]() {
-      const Search search(centres, settings.search);
+      const Search search = make_search(centres);
       Index changed = 0;
       for (Index i = 0; i < n; ++i) {
         const Neighbor<Scalar> nb = search.nearest(features.col(i).data());
@@ -700,7 +723,7 @@ class KMeansQuantizer {
   }
 
   void install(Features centres) {
-    Search search(centres, settings.search);
+    Search search = make_search(centres);
     centres_ = std::move(centres);
     search_ = std::move(search);
   }
