@@ -350,14 +350,20 @@ TEST_CASE("Tactile-SIFT: a mirrored image gives the permuted descriptor") {
   // angle theta -> pi - theta, i.e. bin b (centred on 2 pi b / dn) -> dn/2 - b.
   // Top-bottom mirror: y -> -y, cell row i -> sp-1-i and theta -> -theta,
   // i.e. bin b -> -b (mod dn).
+  // Hard orientation binning (soft = false) too: there a vertical gradient
+  // (dn = 2) or a diagonal one (dn = 4) lies exactly between two bins, and
+  // rounding it up broke the rule.
   struct Case {
     int sp, dn, upsample;
     SiftSpatialBinning spatial;
     double window_sigma;
+    bool soft = true;
   };
-  const Case cases[] = {{3, 8, 1, SiftSpatialBinning::Soft, 0.0}, {3, 8, 1, SiftSpatialBinning::Box, 0.0},
-                        {3, 8, 2, SiftSpatialBinning::Soft, 0.0}, {2, 4, 1, SiftSpatialBinning::Soft, 0.5},
-                        {4, 6, 3, SiftSpatialBinning::Box, 0.3},  {5, 12, 1, SiftSpatialBinning::Soft, 0.0}};
+  const Case cases[] = {{3, 8, 1, SiftSpatialBinning::Soft, 0.0},        {3, 8, 1, SiftSpatialBinning::Box, 0.0},
+                        {3, 8, 2, SiftSpatialBinning::Soft, 0.0},        {2, 4, 1, SiftSpatialBinning::Soft, 0.5},
+                        {4, 6, 3, SiftSpatialBinning::Box, 0.3},         {5, 12, 1, SiftSpatialBinning::Soft, 0.0},
+                        {3, 2, 1, SiftSpatialBinning::Soft, 0.0, false}, {3, 4, 1, SiftSpatialBinning::Soft, 0.0, false},
+                        {3, 8, 1, SiftSpatialBinning::Box, 0.0, false}};
   Rng rng(4);
   for (const Case& k : cases) {
     DynamicTactileSift<double>::Settings s;
@@ -366,6 +372,7 @@ TEST_CASE("Tactile-SIFT: a mirrored image gives the permuted descriptor") {
     s.upsample = k.upsample;
     s.spatial = k.spatial;
     s.window_sigma = k.window_sigma;
+    s.soft_orientation = k.soft;
     const DynamicTactileSift<double> sift(s);
     for (ContactShape shape : test::kAllShapes) {
       const Eigen::MatrixXd p = test::synthetic_contact(shape, rng);
@@ -385,6 +392,7 @@ TEST_CASE("Tactile-SIFT: a mirrored image gives the permuted descriptor") {
       CAPTURE(k.sp);
       CAPTURE(k.dn);
       CAPTURE(k.upsample);
+      CAPTURE(k.soft);
       CHECK(worst_lr < 1e-9);
       CHECK(worst_tb < 1e-9);
       // ...and the mirror is not trivially equal to the original.

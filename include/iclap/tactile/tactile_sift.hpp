@@ -110,7 +110,9 @@ class TactileSift {
     /// Box binning only: overlap of neighbouring boxes as a fraction of the
     /// cell width, in [0, 1). 0.5 = each box 1.5 cells wide.
     double box_overlap = 0.5;
-    /// Share each gradient between the two nearest orientation bins.
+    /// Share each gradient between the two nearest orientation bins. When
+    /// false, each gradient goes to the nearest bin, or in equal halves to
+    /// the two bins it lies exactly between.
     bool soft_orientation = true;
     /// Gaussian window sigma as a fraction of the image extent per axis
     /// (e.g. 0.5 = half the width along x, half the height along y);
@@ -235,14 +237,14 @@ class TactileSift {
         // Orientation bin position t in [0, dn): bin b is centred on t = b.
         double t = std::atan2(gy, gx) * bins_per_radian;
         if (t < 0.0) t += dn;
-        int b0;
-        double f;
-        if (settings_.soft_orientation) {
-          b0 = static_cast<int>(t);  // t >= 0: truncation is floor
-          f = t - b0;
-        } else {
-          b0 = static_cast<int>(t + 0.5);
-          f = 0.0;
+        int b0 = static_cast<int>(t);  // t >= 0: truncation is floor
+        double f = t - b0;
+        if (!settings_.soft_orientation) {
+          // The nearest bin; a gradient exactly between two bins (a vertical
+          // one for dn = 2, a diagonal one for dn = 4) is shared equally, as
+          // rounding it up would break the mirror rule above.
+          if (f > 0.5) ++b0;
+          if (f != 0.5) f = 0.0;
         }
         if (b0 >= dn) b0 -= dn;  // t rounded up to dn
         const int b1 = b0 + 1 == dn ? 0 : b0 + 1;
