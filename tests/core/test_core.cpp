@@ -494,6 +494,37 @@ TEST_CASE("format_exact: the shortest text that reads back to the value in its t
   CHECK(format_exact(0.1) == "0.1");
 }
 
+TEST_CASE("rename_argument_prefix: a plain InvalidArgument whose name starts with the prefix gets the new prefix") {
+  CHECK(rename_argument_prefix("settings.", "settings.search.", [] { return 7; }) == 7);
+  auto what = [](auto&& f) -> std::string {
+    try {
+      f();
+    } catch (const InvalidArgument& e) {
+      return (typeid(e) == typeid(InvalidArgument) ? "plain " : "derived ") + std::string(e.what());
+    }
+    return "none";
+  };
+  CHECK(what([] {
+          rename_argument_prefix("settings.", "settings.search.",
+                                 [] { throw InvalidArgument("settings.leaf_max_size", "must be at least 1"); });
+        }) == "plain settings.search.leaf_max_size: must be at least 1");
+  // The whole name as the prefix, and an empty prefix (prepends).
+  CHECK(what([] { rename_argument_prefix("k", "settings.k", [] { throw InvalidArgument("k", "is 0"); }); }) ==
+        "plain settings.k: is 0");
+  CHECK(what([] { rename_argument_prefix("", "options.", [] { throw InvalidArgument("k", "is 0"); }); }) ==
+        "plain options.k: is 0");
+  // Another name (also a shorter one, and one that only contains the
+  // prefix), a derived error, and another exception pass unchanged.
+  CHECK(what([] { rename_argument_prefix("settings.", "s.", [] { throw InvalidArgument("settings", "bad"); }); }) ==
+        "plain settings: bad");
+  CHECK(what([] { rename_argument_prefix("settings.", "s.", [] { throw InvalidArgument("my.settings.k", "bad"); }); }) ==
+        "plain my.settings.k: bad");
+  CHECK(what([] { rename_argument_prefix("settings.", "s.", [] { throw EmptyInput("settings.points"); }); }) ==
+        "derived settings.points: is empty");
+  CHECK_THROWS_AS(rename_argument_prefix("settings.", "s.", [] { throw std::out_of_range("settings.x"); }),
+                  std::out_of_range);
+}
+
 TEST_CASE("rename_argument: a plain InvalidArgument naming `from` is renamed, everything else passes as it is") {
   // The value of f is returned, also by reference and for void.
   int calls = 0;

@@ -108,6 +108,23 @@ decltype(auto) rename_argument(std::string_view from, const To& to, F&& f) {
   }
 }
 
+/// Returns `f()`; an InvalidArgument of exactly that type whose name starts
+/// with `from_prefix` is thrown again with that prefix replaced by
+/// `to_prefix`, with the same reason: a nested settings object's errors
+/// ("settings.leaf_max_size") named as its owner's user set them
+/// ("settings.search.leaf_max_size"). Everything else passes as it is, as
+/// for rename_argument.
+template <typename F>
+decltype(auto) rename_argument_prefix(std::string_view from_prefix, std::string_view to_prefix, F&& f) {
+  try {
+    return std::forward<F>(f)();
+  } catch (const InvalidArgument& e) {
+    const std::string_view name = e.argument();
+    if (typeid(e) != typeid(InvalidArgument) || name.substr(0, from_prefix.size()) != from_prefix) throw;
+    throw InvalidArgument(std::string(to_prefix).append(name.substr(from_prefix.size())), e.reason());
+  }
+}
+
 /// A file or stream could not be parsed. `what()` reads "FILE:LINE: reason",
 /// the form compilers use, so editors and terminals can jump to the line.
 /// Readers that throw it return nothing partial.

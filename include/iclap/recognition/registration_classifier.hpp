@@ -371,9 +371,7 @@ class RegistrationClassifier final : public Classifier {
       objects[j].validate(arg);
       // Against objects[0], not the references of an earlier fit, which
       // this one replaces (it may embed descriptors of another length).
-      check_dimension(embedding.dim(objects[j]), Dim > 0 ? Index{Dim} : embedding.dim(objects.front()),
-                      arg + (Dim > 0 || j == 0 ? " (embedded point dimension)"
-                                               : " (embedded point dimension, as objects[0]'s)"));
+      check_embedded_dimension(objects[j], arg, j == 0 ? Index{-1} : embedding.dim(objects.front()), ", as objects[0]'s");
       check_touch_range(objects[j], arg);  // before the embedding, which may bin the coordinates
       if constexpr (detail::has_embed_reference<Embedding, Scalar, Dim>::value)
         embedding.template embed_reference<Scalar, Dim>(objects[j], points);
@@ -770,10 +768,19 @@ class RegistrationClassifier final : public Classifier {
           }
   }
 
-  void check_embedded_dimension(const TouchSet& s, const std::string& arg) const {
+  /// Throws DimensionMismatch naming `arg` unless `s` embeds to Dim points
+  /// or, for a run-time Dim, to `expected` (not checked when negative;
+  /// `whose` says whose dimension that is).
+  void check_embedded_dimension(const TouchSet& s, const std::string& arg, Index expected,
+                                const char* whose = "") const {
     if (Dim > 0) check_dimension(embedding.dim(s), Dim, arg + " (embedded point dimension)");
-    if (!references_.empty() && Dim == Eigen::Dynamic)
-      check_dimension(embedding.dim(s), references_.front().dim(), arg + " (embedded point dimension)");
+    else if (expected >= 0)
+      check_dimension(embedding.dim(s), expected, arg + " (embedded point dimension" + whose + ")");
+  }
+
+  /// As above, against the references of the last fit (a test or a pool).
+  void check_embedded_dimension(const TouchSet& s, const std::string& arg) const {
+    check_embedded_dimension(s, arg, references_.empty() ? Index{-1} : references_.front().dim());
   }
 
   std::vector<Reference> references_;

@@ -129,13 +129,15 @@ inline double taxel_pitch_of(const Dataset& dataset, double fallback = 0.0034) {
 
 namespace detail {
 
-/// Throws InvalidArgument naming `orientation_argument` when `frame` has an
+/// Throws InvalidArgument naming `orientation_argument` (a string, or a
+/// callable returning one, called only then) when `frame` has an
 /// orientation that is not a unit quaternion (as the dataset reader): a
 /// zero quaternion turned like the identity.
-inline void check_frame_orientation(const Frame& frame, const std::string& orientation_argument) {
+template <typename Name>
+void check_frame_orientation(const Frame& frame, const Name& orientation_argument) {
   if (!frame.orientation) return;
   const std::string problem = quaternion_problem(*frame.orientation);
-  if (!problem.empty()) throw InvalidArgument(orientation_argument, problem);
+  if (!problem.empty()) throw InvalidArgument(argument_name(orientation_argument), problem);
 }
 
 /// Throws InvalidArgument naming `threshold_argument` unless `threshold` is
@@ -259,7 +261,7 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
     const auto frame_name = [i = kept[ju]] { return "dataset.frames[" + std::to_string(i) + "]"; };
     // The threshold and pitch are checked above, once (taxel_pitch_of
     // returns a pitch in range); a hand-built dataset's orientation here.
-    if (f.orientation) detail::check_frame_orientation(f, frame_name() + ".orientation");
+    detail::check_frame_orientation(f, [&] { return frame_name() + ".orientation"; });
     t.touches.positions.col(j) = f.position;
     if (oriented) t.touches.normals.col(j) = f.orientation->normalized() * Eigen::Vector3d::UnitZ();
     t.object[ju] = index[f.object];

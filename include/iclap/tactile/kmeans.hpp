@@ -376,13 +376,7 @@ class KMeansQuantizer {
   /// naming "settings.X" (a setting of the search's own Settings) is thrown
   /// again naming "settings.search.X", the member the caller set.
   Search make_search(const Features& centres) const {
-    try {
-      return Search(centres, settings.search);
-    } catch (const InvalidArgument& e) {
-      const std::string prefix = "settings.";
-      if (typeid(e) != typeid(InvalidArgument) || e.argument().compare(0, prefix.size(), prefix) != 0) throw;
-      throw InvalidArgument("settings.search." + e.argument().substr(prefix.size()), e.reason());
-    }
+    return rename_argument_prefix("settings.", "settings.search.", [&] { return Search(centres, settings.search); });
   }
 
   InvalidArgument too_many_words(Index distinct) const {
