@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Audit of the tactile pipeline from the user's side (session 53, helper-53a).
-// Each case reproduced a defect (it failed on the code before its fix); the
-// one marked KNOWN DEFECT is not fixed yet and is skipped (it fails with
-// --no-skip).
+// Each audit case reproduced a defect (it failed on the code before its
+// fix; the moments one was fixed in session 54).
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -73,35 +72,33 @@ TEST_CASE("audit: an invalid KMeansQuantizer search setting is named settings.se
 }
 
 // ---------------------------------------------------------------------------
-// KNOWN DEFECT, not fixed yet (session 53): fixing it changes the moments
-// descriptor's features, and so the README's figures measured with it.
 // Input: a 14 x 6 WTS frame with two pressed taxels at opposite corners,
 // (0, 0) = 4095 and (13, 5) = 2000 (a two-point / two-edge contact), through
 // MomentsDescriptor<double>.
-// Now: the Hu entries are [8..14] = 28.7, 826, 1.27e4, 1.27e4, 1.62e8,
-// 3.65e5, ~0, while entries 0..7 are all below 1 (a single corner taxel plus
-// a weak one, 4095 and 400, gives hu[4] = 6.0e8). In Euclidean distance
-// entry 12 alone then decides every k-means word: the other 14 entries are
-// ignored, the opposite of what the doc promises.
-// Should: as documented at moments.hpp:136-138, "position, spread and the
-// invariants all have ranges of order 0.1 - 1 and a Euclidean codebook does
-// not ignore any of them": every entry of order 1 (checked generously as
-// |f[i]| <= 10).
-// Cause: include/iclap/tactile/moments.hpp:185 copies the raw Hu invariants;
-// they are computed (moments.hpp:114-127) from eta_pq = mu_pq /
+// Was: the Hu entries were [8..14] = 28.7, 826, 1.27e4, 1.27e4, 1.62e8,
+// 3.65e5, ~0, while entries 0..7 were all below 1 (a corner taxel plus a
+// weak neighbour, 4095 and 400, gave hu[4] = 6.0e8). In Euclidean distance
+// entry 12 alone then decided every k-means word.
+// Should: as documented in moments.hpp, "position, spread and the invariants
+// all have ranges of order 0.1 - 1 and a Euclidean codebook does not ignore
+// any of them": every entry of order 1 (checked generously as |f[i]| <= 10).
+// Cause (fixed: MomentsDescriptor::compress_invariant): compute() copied the
+// raw Hu invariants, polynomials of degree up to 4 in eta_pq = mu_pq /
 // u00^(1+(p+q)/2) of the peak-normalised image, where u00 (1.5 here, the
-// "area") is tiny compared with the spread across the pad, and hu[2..6] are
-// 3rd- to 6th-degree polynomials of those etas. Dividing lengths by the side
-// does not touch them (they are dimensionless).
-// Fix idea: compress them, e.g. sign(h) * |h|^(1/degree) per invariant (or
-// sign(h) * log(1 + |h|)), and say so in the layout comment.
-TEST_CASE("audit: MomentsDescriptor entries stay of order 1 for a two-point contact" * doctest::skip()) {
-  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(14, 6);
-  p(0, 0) = 4095.0;
-  p(13, 5) = 2000.0;
-  const auto f = MomentsDescriptor<double>().compute(TactileImage(p));
-  for (int i = 0; i < MomentsDescriptor<double>::kLength; ++i) {
-    INFO("entry " << i << " = " << f[i]);
-    CHECK(std::abs(f[i]) <= 10.0);
+// "area") is tiny beside the spread across the pad.
+TEST_CASE("audit: MomentsDescriptor entries stay of order 1 for sparse contacts") {
+  const MomentsDescriptor<double> moments;
+  Eigen::MatrixXd two_corners = Eigen::MatrixXd::Zero(14, 6);
+  two_corners(0, 0) = 4095.0;
+  two_corners(13, 5) = 2000.0;
+  Eigen::MatrixXd corner_and_neighbour = Eigen::MatrixXd::Zero(14, 6);
+  corner_and_neighbour(0, 0) = 4095.0;
+  corner_and_neighbour(1, 0) = 400.0;
+  for (const Eigen::MatrixXd& p : {two_corners, corner_and_neighbour}) {
+    const auto f = moments.compute(TactileImage(p));
+    for (int i = 0; i < MomentsDescriptor<double>::kLength; ++i) {
+      INFO("entry " << i << " = " << f[i]);
+      CHECK(std::abs(f[i]) <= 10.0);
+    }
   }
 }

@@ -592,6 +592,32 @@ TEST_CASE("moments descriptor: layout, blank image, invariance") {
   }
 }
 
+// The compressed entries are sign(h) * log(1 + |h|^(1/d)) of the raw
+// invariants, d = 1, 2, 2, 2, 4, 3, 4, so they keep the invariants' order and
+// signs: entry 14 (hu[6]) changes sign under mirroring, the others stay.
+TEST_CASE("moments descriptor: the Hu entries are the invariants compressed by their degree") {
+  const MomentsDescriptor<double> moments;
+  const int degree[7] = {1, 2, 2, 2, 4, 3, 4};
+  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(14, 6);
+  p(2, 1) = 4000.0;
+  p(3, 1) = 2500.0;
+  p(3, 2) = 1200.0;
+  p(9, 4) = 700.0;
+  p(12, 0) = 300.0;
+  const ImageMoments m = compute_moments(TactileImage(p));
+  const auto f = moments.compute(TactileImage(p));
+  const auto mirrored = moments.compute(TactileImage(Eigen::MatrixXd(p.rowwise().reverse())));
+  for (int i = 0; i < 7; ++i) {
+    const double h = m.hu[static_cast<std::size_t>(i)];
+    const double expected = std::copysign(std::log1p(std::pow(std::abs(h), 1.0 / degree[i])), h);
+    INFO("hu[" << i << "] = " << h);
+    CHECK(f[8 + i] == doctest::Approx(expected).epsilon(1e-12));
+    if (i < 6) CHECK(mirrored[8 + i] == doctest::Approx(f[8 + i]).epsilon(1e-9));
+  }
+  CHECK(std::abs(m.hu[6]) > 1e-6);  // the case is chiral, so the sign test below means something
+  CHECK(mirrored[14] == doctest::Approx(-f[14]).epsilon(1e-9));
+}
+
 // ---------------------------------------------------------------------------
 namespace {
 

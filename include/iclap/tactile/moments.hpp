@@ -132,10 +132,23 @@ inline ImageMoments compute_moments(const TactileImage& image) noexcept {
 ///   [1, 2]   centroid x, y,
 ///   [3 .. 5] mu20, mu11, mu02,
 ///   [6, 7]   anisotropy ((mu20 - mu02), 2 mu11) / (mu20 + mu02),
-///   [8 .. 14] Hu invariants hu[0] .. hu[6],
+///   [8 .. 14] Hu invariants hu[0] .. hu[6], each compressed as
+///            sign(h) * log(1 + |h|^(1/d)), d its degree in the normalised
+///            central moments eta_pq (1, 2, 2, 2, 4, 3, 4),
 /// with lengths divided by the longer side of the grid (areas by its square)
 /// so position, spread and the invariants all have ranges of order 0.1 - 1
 /// and a Euclidean codebook does not ignore any of them.
+///
+/// The raw invariants (ImageMoments::hu) do not: hu[i] is a polynomial of
+/// degree d in the etas, and the etas of a sparse contact, a few pressed
+/// taxels far apart, are large (the scaled image's area is small beside its
+/// spread), so two pressed corners gave hu[4] = 1.6e8 and that one entry
+/// decided every word. The d-th root brings each invariant to the scale of
+/// an eta (about 0.1 for a compact contact) and the logarithm, nearly the
+/// identity there, brings the sparsest contacts' (etas up to thousands on a
+/// 14 x 6 grid) to about 5: 4.7 for the two corners. Both are odd and
+/// monotonic, so the entries keep the invariants' order, their zeros and
+/// hu[6]'s sign change under mirroring.
 ///
 /// The orientation enters as the anisotropy vector, whose angle is twice the
 /// major-axis angle and whose length is 0 for a round contact and 1 for a
@@ -182,7 +195,7 @@ class MomentsDescriptor {
     f[5] = m.mu02 / area;
     f[6] = spread > 0.0 ? (m.mu20 - m.mu02) / spread : 0.0;
     f[7] = spread > 0.0 ? 2.0 * m.mu11 / spread : 0.0;
-    for (int i = 0; i < 7; ++i) f[8 + i] = m.hu[static_cast<std::size_t>(i)];
+    for (std::size_t i = 0; i < 7; ++i) f[8 + static_cast<Index>(i)] = compress_invariant(m.hu[i], kHuDegree[i]);
     // The other entries are normalised (lengths by the grid's side); the
     // mean pressure keeps the pressure's scale.
     detail::check_feature_value<Scalar>(f[0], "the mean pressure over full scale (entry 0) is",
@@ -204,6 +217,15 @@ class MomentsDescriptor {
     for (Index c = 0; c < image.cols(); ++c)
       for (Index r = 0; r < image.rows(); ++r) relative += image(r, c) / peak;
     return peak * (relative / size) / settings_.full_scale;
+  }
+
+  /// Degree of each Hu invariant in the normalised central moments.
+  static constexpr std::array<int, 7> kHuDegree{1, 2, 2, 2, 4, 3, 4};
+
+  /// sign(h) * log(1 + |h|^(1/degree)) (see the class comment).
+  static double compress_invariant(double h, int degree) {
+    const double root = degree == 1 ? std::abs(h) : std::pow(std::abs(h), 1.0 / static_cast<double>(degree));
+    return std::copysign(std::log1p(root), h);
   }
 
   Settings settings_;
