@@ -170,8 +170,10 @@ Cloud<Scalar, Dim> to_cloud(const C& cloud, const std::string& argument = "cloud
   const Index n = traits::size(cloud), d = traits::dimension(cloud);
   if (n < 0) throw InvalidArgument(argument, "has a negative size (" + std::to_string(n) + ")");
   if (d < 0) throw InvalidArgument(argument, "has a negative dimension (" + std::to_string(d) + ")");
-  if (Dim > 0) check_dimension(d, Dim, argument);
-  Cloud<Scalar, Dim> out(d, n);
+  // A cloud of run-time-size points without a point has no dimension (0):
+  // it is empty, not of another dimension.
+  if (Dim > 0 && !(n == 0 && d == 0)) check_dimension(d, Dim, argument);
+  Cloud<Scalar, Dim> out(Dim > 0 ? Index{Dim} : d, n);
   for (Index i = 0; i < n; ++i)
     for (Index k = 0; k < d; ++k) {
       const double v = traits::coordinate(cloud, i, k);

@@ -6,6 +6,7 @@
 // from an arm), so that both accept the same matrices and word their
 // refusals alike.
 
+#include <limits>
 #include <string>
 
 #include <Eigen/Core>
@@ -16,10 +17,15 @@
 namespace iclap {
 
 /// How far the square matrix `q` is from orthogonal: the largest entry of
-/// |q^T q - I| (0 for an orthogonal q, NaN if q holds one). O(n^3).
+/// |q^T q - I| (0 for an orthogonal q and for a 0 x 0 one, NaN if q holds a
+/// NaN or an infinity). O(n^3).
 template <typename Derived>
 double orthogonality_deviation(const Eigen::MatrixBase<Derived>& q) {
   const Eigen::MatrixXd m = q.template cast<double>();
+  if (m.size() == 0) return 0.0;
+  // Checked first: maxCoeff() keeps a NaN only where it is the first entry
+  // (a NaN at (2, 2) gave 0, "orthogonal").
+  if (!m.allFinite()) return std::numeric_limits<double>::quiet_NaN();
   return (m.transpose() * m - Eigen::MatrixXd::Identity(m.rows(), m.cols())).cwiseAbs().maxCoeff();
 }
 

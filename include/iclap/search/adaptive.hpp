@@ -97,14 +97,13 @@ class AdaptiveSearch {
     return tree_ ? kdtree_.nearest(query, hint) : brute_.nearest(query);
   }
 
-  /// The same for an Eigen vector; DimensionMismatch naming "query" unless
-  /// its length is `dim()` (a search without points answers index -1 to
-  /// any query).
+  /// The same for an Eigen vector (a column or a row); DimensionMismatch
+  /// naming "query" unless it is one of length `dim()` (a search without
+  /// points answers index -1 to any query).
   template <typename Derived>
   Neighbor<Scalar> nearest(const Eigen::MatrixBase<Derived>& query) const {
     if (size() == 0) return {};  // no point: index -1, whatever the query's length
-    check_dimension(query.size(), dim(), "query");
-    const Point<Scalar, Dim> q = query;
+    const Point<Scalar, Dim> q = detail::query_point<Scalar, Dim>(query, dim());
     return nearest(q.data());
   }
 
