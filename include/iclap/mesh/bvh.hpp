@@ -171,10 +171,42 @@ class MeshBvh {
   }
 
   /// The point of triangle abc closest to p (Ericson, Real-Time Collision
-  /// Detection, 5.1.5).
+  /// Detection, 5.1.5). A triangle without area (two corners equal, or all
+  /// three on a line) gives the closest point of its edges, the first edge
+  /// of ab, bc, ca on a tie: Ericson's divisions are 0 / 0 there (corners a
+  /// and b equal gave NaN, which lost every comparison, so a query answered
+  /// another triangle).
+  ///
+  /// Its products reach the fourth power of the triangle's size, so a
+  /// triangle smaller than 2^-100 or larger than 2^100 (in its largest
+  /// coordinate difference) is solved scaled by a power of two, which is
+  /// exact: a triangle 1e-78 across underflowed to "no triangle found", one
+  /// 1e-100 across to a point on an edge. Other triangles are solved as
+  /// they are, bit for bit as before.
   static Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                              const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    const double size = std::max((b - a).cwiseAbs().maxCoeff(), (c - a).cwiseAbs().maxCoeff());
+    if (size > 0 && (size < 0x1p-100 || size > 0x1p100)) {
+      const double scale = std::ldexp(1.0, -std::ilogb(size));
+      const Eigen::Vector3d q =
+          closest_on_unit_triangle((p - a) * scale, Eigen::Vector3d::Zero(), (b - a) * scale, (c - a) * scale);
+      return a + q / scale;
+    }
+    return closest_on_unit_triangle(p, a, b, c);
+  }
+
+ private:
+  /// closest_on_triangle for a triangle whose products neither overflow
+  /// nor underflow.
+  static Eigen::Vector3d closest_on_unit_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                                  const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
     const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+    if (ab.cross(ac).squaredNorm() == 0.0) {
+      Eigen::Vector3d best = closest_on_segment(p, a, b);
+      for (const Eigen::Vector3d& q : {closest_on_segment(p, b, c), closest_on_segment(p, c, a)})
+        if ((q - p).squaredNorm() < (best - p).squaredNorm()) best = q;
+      return best;
+    }
     const double d1 = ab.dot(ap), d2 = ac.dot(ap);
     if (d1 <= 0 && d2 <= 0) return a;
     const Eigen::Vector3d bp = p - b;
@@ -194,7 +226,15 @@ class MeshBvh {
     return a + ab * (vb * denom) + ac * (vc * denom);
   }
 
- private:
+  /// The point of segment se closest to p (s for a segment of length 0).
+  static Eigen::Vector3d closest_on_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& s,
+                                            const Eigen::Vector3d& e) {
+    const Eigen::Vector3d d = e - s;
+    const double length2 = d.squaredNorm();
+    if (!(length2 > 0.0)) return s;
+    return s + std::clamp((p - s).dot(d) / length2, 0.0, 1.0) * d;
+  }
+
   struct Node {
     Eigen::AlignedBox3d box;
     std::int32_t first = 0;  // leaf: first triangle slot; inner: left child (right = first + 1)

@@ -67,16 +67,34 @@ inline TriangleMesh make_box(const Eigen::Vector3d& size) {
 
 /// Solid of revolution about the z axis: `profile` lists (radius, z) points
 /// from the bottom to the top; a radius of 0 is a pole (use it at the two
-/// ends to close the solid). `segments` points per ring (>= 3).
+/// ends to close the solid). `segments` points per ring (>= 3). A profile
+/// that, closed along the axis, encloses no area or runs clockwise in the
+/// (radius, z) plane (listed from the top down: an inside-out solid) is
+/// refused naming "profile".
 inline TriangleMesh make_lathe(const std::vector<Eigen::Vector2d>& profile, int segments) {
   if (profile.size() < 2) throw InvalidArgument("profile", "needs at least 2 points");
   if (segments < 3) throw InvalidArgument("segments", "needs at least 3, got " + std::to_string(segments));
+  for (std::size_t i = 0; i < profile.size(); ++i) {
+    const std::string which = "point " + std::to_string(i);
+    if (!profile[i].allFinite()) throw InvalidArgument("profile", which + " is not finite");
+    if (profile[i].x() < 0)
+      throw InvalidArgument("profile", "radius must be >= 0, got " + format_value(profile[i].x()) + " at " + which);
+  }
+  // Twice the signed area of the profile closed along the axis (shoelace).
+  double twice_area = 0;
+  for (std::size_t i = 0; i < profile.size(); ++i) {
+    const Eigen::Vector2d& p = profile[i];
+    const Eigen::Vector2d& q = profile[(i + 1) % profile.size()];
+    twice_area += p.x() * q.y() - q.x() * p.y();
+  }
+  if (!(twice_area > 0))
+    throw InvalidArgument("profile", "encloses no area or lists its points from the top down (signed area " +
+                                         format_value(twice_area / 2) +
+                                         " in the (radius, z) plane, closed along the axis): list them from the "
+                                         "bottom up");
   std::vector<Eigen::Vector3d> v;
   std::vector<int> start;  // first vertex of each profile point
   for (const auto& p : profile) {
-    const std::string which = "point " + std::to_string(start.size());
-    if (!p.allFinite()) throw InvalidArgument("profile", which + " is not finite");
-    if (p.x() < 0) throw InvalidArgument("profile", "radius must be >= 0, got " + format_value(p.x()) + " at " + which);
     start.push_back(static_cast<int>(v.size()));
     if (p.x() == 0) {
       v.emplace_back(0, 0, p.y());
@@ -136,8 +154,11 @@ inline TriangleMesh make_capsule(double radius, double length, int segments = 24
   check_positive(radius, "radius");
   check_positive(length, "length");  // 0 would stack two rings: use make_sphere
   if (cap_rings < 1) throw InvalidArgument("cap_rings", "needs at least 1, got " + std::to_string(cap_rings));
-  std::vector<Eigen::Vector2d> p;
   const double h = length / 2;
+  if (!std::isfinite(h + radius))
+    throw InvalidArgument("length", "length / 2 + radius is beyond a double (length " + format_value(length) +
+                                        ", radius " + format_value(radius) + ")");
+  std::vector<Eigen::Vector2d> p;
   for (int i = 0; i <= cap_rings; ++i) {
     const double a = -detail::kPi / 2 + (detail::kPi / 2) * i / cap_rings;
     p.emplace_back(radius * std::cos(a), -h + radius * std::sin(a));

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <Eigen/Core>
@@ -50,7 +51,14 @@ inline SampledTriangle sampled_triangle(const TriangleMesh& mesh, Index t, doubl
   s.c = mesh.corner(t, (longest + 2) % 3);
   s.length = std::sqrt(best);
   if (s.length > 0) {
-    const double height = (s.b - s.a).cross(s.c - s.a).norm() / s.length;
+    // norm() squares the cross product's entries, which underflow for a
+    // triangle below about 1e-77 across (it then got no rows beyond its
+    // longest edge); stableNorm() only then, so others keep their bits.
+    const Eigen::Vector3d cross = (s.b - s.a).cross(s.c - s.a);
+    const double squared = cross.squaredNorm();
+    const double twice_area =
+        squared >= std::numeric_limits<double>::min() ? std::sqrt(squared) : cross.stableNorm();
+    const double height = twice_area / s.length;
     // Rows at most sqrt(3)/2 spacing apart, points at most `spacing` apart
     // along each row: the angles at the longest edge are at most 90
     // degrees, so a point between two rows projects onto the longer one,

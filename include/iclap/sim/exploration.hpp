@@ -99,10 +99,17 @@ struct ExplorationSettings {
   /// Largest start_candidates.
   static constexpr int kMaxStartCandidates = 64;
 
+  /// Smallest frame_rate, frames per second: frame times and steps are
+  /// divided by it, and a subnormal one made them infinite.
+  static constexpr double kMinFrameRate = 1e-3;
+
   /// Throws InvalidArgument naming the first setting out of range; every
   /// setting must be finite.
   void validate() const {
     check_positive(frame_rate, "exploration.frame_rate");
+    if (frame_rate < kMinFrameRate)
+      throw InvalidArgument("exploration.frame_rate", "must be at least " + format_value(kMinFrameRate) +
+                                                          " frames per second, got " + format_value(frame_rate));
     check_positive(sweep_speed, "exploration.sweep_speed");
     check_non_negative(speed_jitter, "exploration.speed_jitter");
     check_non_negative(heading_jitter, "exploration.heading_jitter");

@@ -128,12 +128,16 @@ class TactileSensorModel {
     nx_ = s_.rows * s_.samples_per_taxel + 2 * rim_x_;
     ny_ = s_.cols * s_.samples_per_taxel + 2 * rim_y_;
     // Separable Gaussian kernel (in samples) and its normaliser over the pad.
+    // A spread whose square underflows (spread_sigma below about 1e-160
+    // samples) spreads nothing, as 0: its centre weight was 0 / 0, NaN, and
+    // so was every reading.
     const double sig = s_.spread_sigma / sub_;
-    const Index radius = sig > 0 ? static_cast<Index>(std::ceil(3 * sig)) : 0;
+    const bool spreads = sig * sig > 0;
+    const Index radius = spreads ? static_cast<Index>(std::ceil(3 * sig)) : 0;
     kernel_.resize(static_cast<std::size_t>(2 * radius + 1));
     for (Index k = -radius; k <= radius; ++k)
       kernel_[static_cast<std::size_t>(k + radius)] =
-          sig > 0 ? std::exp(-0.5 * static_cast<double>(k * k) / (sig * sig)) : 1.0;
+          spreads ? std::exp(-0.5 * static_cast<double>(k * k) / (sig * sig)) : 1.0;
     std::vector<double> ones(static_cast<std::size_t>(nx_ * ny_), 1.0);
     norm_ = blur_raw(ones);
   }
