@@ -513,3 +513,38 @@ TEST_CASE("mesh geometry: MeshBvh::closest_point answers a triangle of the mesh 
   huge.vertices *= 1e200;
   CHECK(iclap::test::argument_of([&] { iclap::MeshBvh b(huge); }) == "mesh");
 }
+
+TEST_CASE("mass_centroid: a solid of any finite size, scaled by a power of two exactly") {
+  // An irregular tetrahedron: its centre of mass (the mean of its corners)
+  // differs from its surface centroid and from the centre of its bounds.
+  iclap::TriangleMesh tet;
+  tet.vertices.resize(3, 4);
+  tet.vertices << 0, 3, 0, 0, 0, 0, 2, 0, 0, 0, 0, 5;
+  tet.triangles.resize(3, 4);
+  tet.triangles << 0, 0, 0, 1, 2, 1, 3, 2, 1, 3, 2, 3;
+  if (iclap::signed_volume(tet) < 0) tet.triangles.row(1).swap(tet.triangles.row(2));
+  const Eigen::Vector3d unit = iclap::mass_centroid(tet);
+  CHECK(unit.isApprox(Eigen::Vector3d(0.75, 0.5, 1.25), 1e-12));
+  // Scaling by 2^e scales every step exactly, so the result is 2^e times the
+  // unit one to the last bit; volumes (cubes of lengths) underflowed below
+  // about 1e-100 (the surface centroid was returned) and overflowed above.
+  for (const int e : {-1040, -400, -300, 300, 1000}) {
+    CAPTURE(e);
+    iclap::TriangleMesh scaled = tet;
+    scaled.vertices = scaled.vertices.unaryExpr([e](double v) { return std::ldexp(v, e); });
+    const Eigen::Vector3d c = iclap::mass_centroid(scaled);
+    for (int k = 0; k < 3; ++k) CHECK(c[k] == std::ldexp(unit[k], e));
+  }
+}
+
+TEST_CASE("closest_on_triangle: a triangle of subnormal size") {
+  // The scale factor 2^1030 of a triangle 1e-310 across overflowed to
+  // infinity (then NaN); the coordinates are now scaled one by one.
+  const double k = 1e-310;
+  const Eigen::Vector3d a(0, 0, 0), b(k, 0, 0), c(0, k, 0);
+  const Eigen::Vector3d q = iclap::MeshBvh::closest_on_triangle(Eigen::Vector3d(0.25 * k, 0.25 * k, k), a, b, c);
+  CHECK(q.allFinite());
+  CHECK(q.x() == doctest::Approx(0.25 * k).epsilon(1e-9));
+  CHECK(q.y() == doctest::Approx(0.25 * k).epsilon(1e-9));
+  CHECK(q.z() == 0.0);
+}

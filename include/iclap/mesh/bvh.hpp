@@ -181,16 +181,20 @@ class MeshBvh {
   /// triangle smaller than 2^-100 or larger than 2^100 (in its largest
   /// coordinate difference) is solved scaled by a power of two, which is
   /// exact: a triangle 1e-78 across underflowed to "no triangle found", one
-  /// 1e-100 across to a point on an edge. Other triangles are solved as
-  /// they are, bit for bit as before.
+  /// 1e-100 across to a point on an edge, and the scale factor of one of
+  /// subnormal size overflowed. Other triangles are solved as they are, bit
+  /// for bit as before. The products also reach the square of the query's
+  /// distance over the triangle's size, which must stay below about 1e150.
   static Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                              const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
     const double size = std::max((b - a).cwiseAbs().maxCoeff(), (c - a).cwiseAbs().maxCoeff());
     if (size > 0 && (size < 0x1p-100 || size > 0x1p100)) {
-      const double scale = std::ldexp(1.0, -std::ilogb(size));
-      const Eigen::Vector3d q =
-          closest_on_unit_triangle((p - a) * scale, Eigen::Vector3d::Zero(), (b - a) * scale, (c - a) * scale);
-      return a + q / scale;
+      const int e = detail::unit_exponent(size);
+      const Eigen::Vector3d q = closest_on_unit_triangle(detail::scale_by_power_of_two(p - a, -e),
+                                                         Eigen::Vector3d::Zero(),
+                                                         detail::scale_by_power_of_two(b - a, -e),
+                                                         detail::scale_by_power_of_two(c - a, -e));
+      return a + detail::scale_by_power_of_two(q, e);
     }
     return closest_on_unit_triangle(p, a, b, c);
   }

@@ -42,10 +42,8 @@ inline TriangleMesh convex_hull(const Eigen::Matrix3Xd& points) {
   if (!std::isfinite(extent) || !centre.allFinite())
     throw InvalidArgument("points", "coordinates too large to compute with (the extent overflows)");
   if (!(extent > 0)) throw InvalidArgument("points", "all points coincide");
-  int exponent = 0;
-  std::frexp(extent, &exponent);
-  const Eigen::Matrix3Xd p =
-      (points.colwise() - centre).unaryExpr([exponent](double v) { return std::ldexp(v, -exponent); });
+  const int exponent = detail::unit_exponent(extent);
+  const Eigen::Matrix3Xd p = detail::scale_by_power_of_two(points.colwise() - centre, -exponent);
   extent = std::ldexp(extent, -exponent);
   const double eps = 1e-12 * extent * 64;
 

@@ -13,6 +13,27 @@
 
 namespace iclap {
 
+namespace detail {
+
+/// The exponent e with 2^-e * extent in [0.5, 1) (std::frexp's), for an
+/// extent > 0. Geometry scaled by 2^-e (scale_by_power_of_two) rounds
+/// exactly as unscaled geometry does, but its products of up to four
+/// lengths neither overflow nor underflow.
+inline int unit_exponent(double extent) {
+  int exponent = 0;
+  std::frexp(extent, &exponent);
+  return exponent;
+}
+
+/// Every coefficient of `m` times 2^e, exactly (std::ldexp, so no factor
+/// 2^e is formed: it would overflow for the e of a subnormal extent).
+template <typename Derived>
+auto scale_by_power_of_two(const Eigen::MatrixBase<Derived>& m, int e) {
+  return m.unaryExpr([e](typename Derived::Scalar v) { return std::ldexp(v, e); });
+}
+
+}  // namespace detail
+
 /// An indexed triangle mesh: the surface of a rigid object.
 ///
 /// Invariants (checked by `validate_mesh`): every vertex finite, every index
@@ -110,16 +131,26 @@ inline double signed_volume(const TriangleMesh& mesh) {
 
 /// Centre of mass of the solid bounded by `mesh` (uniform density), from
 /// signed tetrahedra; falls back to the area-weighted surface centroid when
-/// the signed volume is (nearly) zero, e.g. for an open surface. O(triangles).
+/// the signed volume is (nearly) zero, e.g. for an open surface. Any finite
+/// size works: the tetrahedra are computed scaled by a power of two, which
+/// is exact. O(triangles).
 inline Eigen::Vector3d mass_centroid(const TriangleMesh& mesh) {
   // Tetrahedra against a reference point inside the bounds, for precision
-  // with far-away origins (CAD files).
-  const Eigen::Vector3d ref = mesh_bounds(mesh).center();
+  // with far-away origins (CAD files), with the extent brought into
+  // [0.5, 1): a tetrahedron's volume is a cube of lengths, so a mesh under
+  // about 1e-100 across underflowed to "no volume" (its surface centroid)
+  // and one over 1e100 overflowed. Elsewhere the result is as unscaled, bit
+  // for bit.
+  const Eigen::AlignedBox3d bounds = mesh_bounds(mesh);
+  const Eigen::Vector3d ref = bounds.center();
+  const double extent = bounds.sizes().maxCoeff();
+  const int e = extent > 0 && std::isfinite(extent) ? detail::unit_exponent(extent) : 0;
   double volume = 0, area = 0;
   Eigen::Vector3d moment = Eigen::Vector3d::Zero(), area_moment = Eigen::Vector3d::Zero();
   for (Index t = 0; t < mesh.triangles.cols(); ++t) {
-    const Eigen::Vector3d a = mesh.corner(t, 0) - ref, b = mesh.corner(t, 1) - ref,
-                          c = mesh.corner(t, 2) - ref;
+    const Eigen::Vector3d a = detail::scale_by_power_of_two(mesh.corner(t, 0) - ref, -e),
+                          b = detail::scale_by_power_of_two(mesh.corner(t, 1) - ref, -e),
+                          c = detail::scale_by_power_of_two(mesh.corner(t, 2) - ref, -e);
     const double v = a.dot(b.cross(c)) / 6.0;
     volume += v;
     moment += v * (a + b + c) / 4.0;
@@ -127,10 +158,10 @@ inline Eigen::Vector3d mass_centroid(const TriangleMesh& mesh) {
     area += s;
     area_moment += s * (a + b + c) / 3.0;
   }
-  const Eigen::Vector3d extent = mesh_bounds(mesh).sizes();
-  const double scale = extent.prod();
-  if (std::abs(volume) > 1e-9 * scale && scale > 0) return ref + moment / volume;
-  if (area > 0) return ref + area_moment / area;
+  const double scale = detail::scale_by_power_of_two(bounds.sizes(), -e).prod();
+  if (std::abs(volume) > 1e-9 * scale && scale > 0)
+    return ref + detail::scale_by_power_of_two(moment / volume, e);
+  if (area > 0) return ref + detail::scale_by_power_of_two(area_moment / area, e);
   return ref;
 }
 
