@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cstddef>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -90,6 +91,25 @@ std::string argument_name(const Name& name) {
   else return std::string(name);
 }
 
+namespace detail {
+
+/// Returns `f()`; an InvalidArgument of exactly that type for whose name
+/// `rename` gives a new one (a std::optional<std::string>) is thrown again
+/// under it, with the same reason. Everything else passes as it is.
+template <typename F, typename Rename>
+decltype(auto) rename_invalid_argument(F&& f, const Rename& rename) {
+  try {
+    return std::forward<F>(f)();
+  } catch (const InvalidArgument& e) {
+    if (typeid(e) != typeid(InvalidArgument)) throw;
+    std::optional<std::string> name = rename(std::string_view(e.argument()));
+    if (!name) throw;
+    throw InvalidArgument(std::move(*name), e.reason());
+  }
+}
+
+}  // namespace detail
+
 /// Returns `f()`; an InvalidArgument of exactly that type naming `from` is
 /// thrown again naming `to`, with the same reason. Lets a caller give a
 /// callee's parameter ("image", "settings.voxel") the name its own user
@@ -100,12 +120,10 @@ std::string argument_name(const Name& name) {
 /// the normal path).
 template <typename To, typename F>
 decltype(auto) rename_argument(std::string_view from, const To& to, F&& f) {
-  try {
-    return std::forward<F>(f)();
-  } catch (const InvalidArgument& e) {
-    if (typeid(e) != typeid(InvalidArgument) || e.argument() != from) throw;
-    throw InvalidArgument(argument_name(to), e.reason());
-  }
+  return detail::rename_invalid_argument(std::forward<F>(f), [&](std::string_view name) -> std::optional<std::string> {
+    if (name != from) return std::nullopt;
+    return argument_name(to);
+  });
 }
 
 /// Returns `f()`; an InvalidArgument of exactly that type whose name starts
@@ -116,13 +134,10 @@ decltype(auto) rename_argument(std::string_view from, const To& to, F&& f) {
 /// for rename_argument.
 template <typename F>
 decltype(auto) rename_argument_prefix(std::string_view from_prefix, std::string_view to_prefix, F&& f) {
-  try {
-    return std::forward<F>(f)();
-  } catch (const InvalidArgument& e) {
-    const std::string_view name = e.argument();
-    if (typeid(e) != typeid(InvalidArgument) || name.substr(0, from_prefix.size()) != from_prefix) throw;
-    throw InvalidArgument(std::string(to_prefix).append(name.substr(from_prefix.size())), e.reason());
-  }
+  return detail::rename_invalid_argument(std::forward<F>(f), [&](std::string_view name) -> std::optional<std::string> {
+    if (name.substr(0, from_prefix.size()) != from_prefix) return std::nullopt;
+    return std::string(to_prefix).append(name.substr(from_prefix.size()));
+  });
 }
 
 /// A file or stream could not be parsed. `what()` reads "FILE:LINE: reason",
