@@ -76,6 +76,22 @@ TEST_CASE("touch table: a NaN, infinite or negative contact threshold is refused
   CHECK(make_touch_table(ds, RawPressures<float>{}, 0.0).size() == 1);
 }
 
+TEST_CASE("touch table: a NaN or infinite pressure is refused, naming the frame, wherever it sits") {
+  // A NaN beside a taxel above the threshold: Eigen's maxCoeff answered by
+  // where the NaN sat, so the frame was dropped as idle or kept, silently.
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()})
+    for (const Index row : {0, 13}) {
+      CAPTURE(bad);
+      CAPTURE(row);
+      Frame f = frame("a", 0, 1, 90.0);
+      f.pressures(row, 5) = bad;
+      const Dataset ds = wts_dataset({frame("a", 0, 0, 90.0), f});
+      CHECK(test::argument_of([&] { (void)make_touch_table(ds, RawPressures<float>{}, 20.0); }) ==
+            "dataset.frames[1].pressures");
+      CHECK_THROWS_AS((void)make_touch_table(ds, RawPressures<float>{}, 20.0), NonFiniteValue);
+    }
+}
+
 TEST_CASE("touch table: validate names a bad object index and a part of the wrong length") {
   const TouchTable t =
       make_touch_table(wts_dataset({frame("a", 0, 0, 90.0), frame("b", 0, 1, 90.0)}), RawPressures<float>{}, 20.0);

@@ -35,10 +35,11 @@ namespace iclap {
 /// ParseError naming the file and the header line; `comments` are not written
 /// again. The header is checked before anything is changed. A trailing
 /// partial row (the file does not end with a line break and its last line
-/// has fewer fields than the header, e.g. after a power loss mid-write) is
-/// cut off and its size reported by `recovered_bytes()`, so the file is
-/// always a sequence of complete rows. A last line without a line break that
-/// has all the header's fields (or more) may be a whole row written by
+/// has fewer fields than the header, or all of them with the last one empty,
+/// e.g. after a power loss mid-write) is cut off and its size reported by
+/// `recovered_bytes()`, so the file is always a sequence of complete rows. A
+/// last line without a line break that has all the header's fields, the
+/// last one not empty (or more fields), may be a whole row written by
 /// another program or one cut inside its last number: the constructor
 /// refuses it (ParseError naming the line) rather than guess, and changes
 /// nothing.
@@ -204,13 +205,19 @@ class DatasetCsvAppender {
     if (unterminated_start > 0) {
       std::vector<std::string_view> fields;
       detail::split_fields(unterminated, fields);
-      if (!detail::trim_ascii(unterminated).empty() && fields.size() >= header_fields.size())
+      // A row cut right after its last comma has all its fields, the last
+      // one empty, which no whole row has (the reader refuses empty
+      // values): it is partial too.
+      const bool whole = fields.size() > header_fields.size() ||
+                         (fields.size() == header_fields.size() && !detail::trim_ascii(fields.back()).empty());
+      if (!detail::trim_ascii(unterminated).empty() && whole)
         throw ParseError(path_, line_no,
                          "the last row has " + std::to_string(fields.size()) + " fields (the header has " +
                              std::to_string(header_fields.size()) +
                              ") but no line break: a whole row or one cut inside its last value; end it with a "
                              "line break or remove it before appending");
-      // Fewer fields than the header: a row cut off mid-write.
+      // Fewer fields than the header, or an empty last one: a row cut off
+      // mid-write.
       recovered_bytes_ = view.size() - unterminated_start;
       --lines_;
       std::error_code ec;

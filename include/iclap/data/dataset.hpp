@@ -69,9 +69,26 @@ inline std::string quaternion_problem(const Eigen::Quaterniond& q) {
 
 namespace detail {
 /// is_contact for a threshold the caller has checked: the loops over a
-/// dataset's frames check it once, not once per frame.
-inline bool is_contact_unchecked(const Frame& f, double threshold) {
-  return f.pressures.size() > 0 && f.pressures.maxCoeff() > threshold;
+/// dataset's frames check it once, not once per frame. Throws
+/// NonFiniteValue naming `name` (a string, or a callable returning one) for
+/// a NaN or infinite pressure, which no recording has: the largest of
+/// pressures with a NaN among them (Eigen's maxCoeff) depends on where the
+/// NaN sits, so a frame counted as a contact or not by the taxels' order.
+template <typename Name>
+bool is_contact_unchecked(const Frame& frame, double threshold, const Name& name) {
+  const Eigen::MatrixXd& p = frame.pressures;
+  bool above = false;
+  for (Index c = 0; c < p.cols(); ++c)
+    for (Index r = 0; r < p.rows(); ++r) {
+      if (!std::isfinite(p(r, c))) throw NonFiniteValue(argument_name(name), r, c, p(r, c));
+      above = above || p(r, c) > threshold;
+    }
+  return above;
+}
+
+/// The name of frame i's pressures in a dataset's errors.
+inline auto frame_pressures_name(std::size_t i) {
+  return [i] { return "frames[" + std::to_string(i) + "].pressures"; };
 }
 }  // namespace detail
 
@@ -79,19 +96,23 @@ inline bool is_contact_unchecked(const Frame& f, double threshold) {
 /// units). A frame without taxels is never a contact. Throws InvalidArgument
 /// naming "threshold" unless it is finite and >= 0 (a NaN made no frame a
 /// contact, a negative one every blank frame), as exploration_overlap and
-/// the tactile is_contact do. O(taxels).
-inline bool is_contact(const Frame& f, double threshold = kDefaultContactThreshold) {
+/// the tactile is_contact do, and NonFiniteValue naming "frame.pressures"
+/// for a NaN or infinite pressure. O(taxels).
+inline bool is_contact(const Frame& frame, double threshold = kDefaultContactThreshold) {
   check_non_negative(threshold, "threshold");
-  return detail::is_contact_unchecked(f, threshold);
+  return detail::is_contact_unchecked(frame, threshold, "frame.pressures");
 }
 
 /// Number of contact frames (see is_contact) in `ds`. Throws InvalidArgument
 /// naming "threshold" unless it is finite and >= 0, even for a dataset
-/// without frames. O(frames x taxels).
+/// without frames, and NonFiniteValue naming `frames[i].pressures` for the
+/// first frame i with a NaN or infinite pressure. O(frames x taxels).
 inline std::size_t contact_frame_count(const Dataset& ds, double threshold = kDefaultContactThreshold) {
   check_non_negative(threshold, "threshold");
-  return static_cast<std::size_t>(std::count_if(
-      ds.frames.begin(), ds.frames.end(), [&](const Frame& f) { return detail::is_contact_unchecked(f, threshold); }));
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < ds.frames.size(); ++i)
+    if (detail::is_contact_unchecked(ds.frames[i], threshold, detail::frame_pressures_name(i))) ++count;
+  return count;
 }
 
 /// Object names in order of first appearance in the file. O(frames).
@@ -156,7 +177,8 @@ struct ObjectSummary {
 
 /// Per-object counts, objects in order of first appearance. Throws
 /// InvalidArgument naming "threshold" unless it is finite and >= 0, even for
-/// a dataset without frames. O(frames x taxels).
+/// a dataset without frames, and NonFiniteValue naming `frames[i].pressures`
+/// for a frame i with a NaN or infinite pressure. O(frames x taxels).
 inline std::vector<ObjectSummary> summarize(const Dataset& ds,
                                             double threshold = kDefaultContactThreshold) {
   check_non_negative(threshold, "threshold");
@@ -167,7 +189,7 @@ inline std::vector<ObjectSummary> summarize(const Dataset& ds,
       s.explorations.push_back(e.id);
       s.frames += e.frames.size();
       for (const std::size_t i : e.frames)
-        if (detail::is_contact_unchecked(ds.frames[i], threshold)) ++s.contact_frames;
+        if (detail::is_contact_unchecked(ds.frames[i], threshold, detail::frame_pressures_name(i))) ++s.contact_frames;
     }
     out.push_back(std::move(s));
   }

@@ -53,7 +53,8 @@ struct ExplorationOverlap {
 /// Throws InvalidArgument naming `radius` unless it is finite, positive and
 /// in that range, or `threshold` unless it is finite and >= 0, and
 /// NonFiniteValue naming `frames[i].position` for a contact frame i at a NaN
-/// or infinite position. One kd-tree per exploration:
+/// or infinite position or `frames[i].pressures` for a frame i with a NaN or
+/// infinite pressure. One kd-tree per exploration:
 /// O(E n log n) per object of E explorations and n contact frames.
 inline std::vector<ExplorationOverlap> exploration_overlap(const Dataset& ds, double radius,
                                                            double threshold = kDefaultContactThreshold) {
@@ -70,7 +71,7 @@ inline std::vector<ExplorationOverlap> exploration_overlap(const Dataset& ds, do
   // non-finite position is refused before any work, the first one named.
   std::vector<bool> contact(ds.frames.size());
   for (std::size_t i = 0; i < ds.frames.size(); ++i) {
-    contact[i] = detail::is_contact_unchecked(ds.frames[i], threshold);
+    contact[i] = detail::is_contact_unchecked(ds.frames[i], threshold, detail::frame_pressures_name(i));
     if (contact[i]) check_finite(ds.frames[i].position, "frames[" + std::to_string(i) + "].position");
   }
 

@@ -63,7 +63,8 @@ inline int sync_directory(const std::string& dir) noexcept {
 ///
 /// Where `PATH` is a symbolic link, the file it leads to is replaced and the
 /// link stays. Where `PATH` exists, the new file gets its permission bits
-/// (a 0600 file stays 0600).
+/// (a 0600 file stays 0600), and until then the temporary file is readable
+/// by its owner only.
 ///
 /// Not thread-safe; one writer per target path.
 class AtomicFileWriter {
@@ -178,12 +179,17 @@ class AtomicFileWriter {
   static std::string create_temporary(const std::string& path, const std::string& target) {
 #if defined(__unix__) || defined(__APPLE__)
     static std::atomic<unsigned> counter{0};
+    // Private (0600) while it replaces a file, whose permission bits may
+    // keep its content from other users (commit() gives them); a new file
+    // gets 0666 less the umask, as any.
+    struct stat existing {};
+    const mode_t mode = ::stat(target.c_str(), &existing) == 0 ? 0600 : 0666;
     const std::filesystem::path t = target;
     const bool short_name = t.filename().string().size() + 32 > 255;  // NAME_MAX on Linux and macOS
     for (int attempt = 0; attempt < 1000; ++attempt) {
       const std::string suffix = ".partial-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
       const std::string temp = short_name ? (t.parent_path() / suffix).string() : target + suffix;
-      const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0666);
+      const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL, mode);
       if (fd >= 0) {
         ::close(fd);
         return temp;

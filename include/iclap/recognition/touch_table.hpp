@@ -208,7 +208,9 @@ inline Index append_free_points(const Frame& frame, double threshold, double pit
 /// `taxel_pitch_of`); when every
 /// contact frame has an orientation, the pad normals (`TouchSet::normals`).
 /// Throws InvalidArgument naming "contact_threshold" unless it is finite
-/// and >= 0, EmptyInput naming "dataset" when no frame is a contact, what
+/// and >= 0, NonFiniteValue naming "dataset.frames[I].pressures" for a
+/// frame with a NaN or infinite pressure (a hand-built dataset's; the
+/// reader refuses one), EmptyInput naming "dataset" when no frame is a contact, what
 /// taxel_pitch_of throws when a contact frame has an orientation, and
 /// InvalidArgument naming "dataset.frames[I].orientation" for a contact
 /// frame's orientation that is not a unit quaternion (a hand-built
@@ -235,7 +237,9 @@ TouchTable make_touch_table(const Dataset& dataset, const Descriptor& descriptor
       index[f.object] = static_cast<Index>(t.objects.size());
       t.objects.push_back(f.object);
     }
-    if (detail::is_contact_unchecked(f, contact_threshold)) kept.push_back(i);
+    if (detail::is_contact_unchecked(f, contact_threshold,
+                                     [i] { return "dataset.frames[" + std::to_string(i) + "].pressures"; }))
+      kept.push_back(i);
     else ++t.idle_frames;
   }
   if (kept.empty())
