@@ -373,7 +373,10 @@ TEST_CASE("methods with alternatives: renaming and variants") {
   const Fusion renamed = m.fusion.renamed("patch", "patch-trim50");
   CHECK(renamed.to_string() == "0.3333333333333333*iclap_patch+0.3333333333333333*patch-trim50+0.33333333333333337*bow");
   CHECK(m.fusion.renamed("icp", "x").to_string() == m.fusion.to_string());  // unused: unchanged
-  CHECK(parse_method("(icp*bow)*icp").fusion.renamed("icp", "a").to_string() == "a*bow*a");
+  // Every use is renamed (parse_method refuses a repeated factor, the
+  // library's product takes it).
+  const Fusion icp = Fusion::classifier("icp");
+  CHECK((icp * Fusion::classifier("bow") * icp).renamed("icp", "a").to_string() == "a*bow*a");
 
   // Two classifiers with two variants each: every combination, in order.
   const Method v = with_variants(with_variants(m, "patch", {"p1", "p2"}), "iclap_patch", {"q1", "q2"});

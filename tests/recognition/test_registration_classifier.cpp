@@ -60,6 +60,26 @@ TEST_CASE("registration classifiers refuse bad settings and inputs, naming them"
     iclapn.embedding.descriptor_scale = bad;
     CHECK(argument_of([&] { iclapn.fit({s}, 4); }) == "descriptor_scale");
   }
+  // A scale that is 0 or subnormal as the classifier's scalar (1e-50 as a
+  // float; 1e-310 as a double) was refused deep in fit as "weights".
+  for (const double tiny : {1e-50, 1e-40}) {
+    CAPTURE(tiny);
+    IclapClassifier<float> iclap;
+    iclap.embedding.label_scale = tiny;
+    CHECK(argument_of([&] { iclap.fit({s}, 4); }) == "label_scale");
+    IclapNClassifier<Eigen::Dynamic, float> iclapn;
+    iclapn.embedding.descriptor_scale = tiny;
+    CHECK(argument_of([&] { iclapn.fit({s}, 4); }) == "descriptor_scale");
+    IclapClassifier<double> fine;  // a double holds it
+    fine.embedding.label_scale = tiny;
+    CHECK_NOTHROW(fine.fit({s}, 4));
+  }
+  IclapClassifier<double> subnormal;
+  subnormal.embedding.label_scale = 1e-310;
+  CHECK_THROWS_WITH_AS(subnormal.fit({s}, 4),
+                       "label_scale: 1e-310 is outside the range of a double weight [2.22507e-308, 1.79769e+308]; "
+                       "use a scale within it",
+                       InvalidArgument);
   // No object; an object without the words or descriptors the embedding reads.
   IcpClassifier<double> icp;
   CHECK_THROWS_WITH_AS(icp.fit({}, 4), "objects: no object to recognise", EmptyInput);

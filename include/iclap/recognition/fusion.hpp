@@ -5,6 +5,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -80,12 +81,14 @@ class Fusion {
  public:
   enum class Kind { Classifier, WeightedSum, Product };
 
-  /// A classifier's distances, by name (letters, digits, '_' and '-').
+  /// A classifier's distances, by name (letters, digits, '_' and, not
+  /// first, '-', as parse_method reads names).
   static Fusion classifier(std::string name) {
     if (name.empty()) throw InvalidArgument("classifier", "name is empty");
     for (char c : name)
       if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'))
         throw InvalidArgument("classifier", "name '" + name + "' may hold only letters, digits, '_' and '-'");
+    if (name.front() == '-') throw InvalidArgument("classifier", "name '" + name + "' may not start with '-'");
     Fusion f;
     f.kind_ = Kind::Classifier;
     f.name_ = std::move(name);
@@ -176,9 +179,12 @@ class Fusion {
 
   /// The fused distance of every object. Throws InvalidArgument naming
   /// "classifier" for a missing classifier and naming "distances" when a
-  /// product meets a negative distance, and NonFiniteValue naming the
-  /// product when it overflows (raw distances of 1e200 and 1e200; the
-  /// normalised ones are at most 1 and cannot). O(N x nodes).
+  /// product meets a negative distance or underflows (an object's factors
+  /// all above 0 and their product below the smallest normal double, 2.2e-308,
+  /// where objects would tie by rounding and be decided by their order:
+  /// 1e-170 x 3e-170 and 2e-170 x 1e-170 both gave 0), and NonFiniteValue
+  /// naming the product when it overflows (raw distances of 1e200 and 1e200;
+  /// the normalised ones are at most 1 and cannot). O(N x nodes).
   Eigen::VectorXd evaluate(const DistanceTable& table) const {
     switch (kind_) {
       case Kind::Classifier: return table.get(name_);
@@ -190,12 +196,21 @@ class Fusion {
       case Kind::Product: {
         Eigen::VectorXd out = children_[0].evaluate(table);
         check_non_negative(out, children_[0]);
+        // Objects with a factor of exactly 0: their product is exact.
+        Eigen::Array<bool, Eigen::Dynamic, 1> zero = out.array() == 0.0;
         for (std::size_t i = 1; i < children_.size(); ++i) {
           const Eigen::VectorXd v = children_[i].evaluate(table);
           check_non_negative(v, children_[i]);
           out.array() *= v.array();
+          zero = zero || v.array() == 0.0;
         }
         check_finite(out, "product " + to_string());
+        for (Index j = 0; j < out.size(); ++j)
+          if (out(j) < std::numeric_limits<double>::min() && !zero(j))
+            throw InvalidArgument("distances", "the product " + to_string() + " underflows for object " +
+                                                   std::to_string(j) + " (" + format_value(out(j)) +
+                                                   "): its factors span too many orders of magnitude to rank "
+                                                   "the objects; use a weighted sum");
         return out;
       }
     }
@@ -218,7 +233,7 @@ class Fusion {
         std::string s;
         for (std::size_t i = 0; i < children_.size(); ++i) {
           if (i) s += "*";
-          s += children_[i].to_string_as_factor();
+          s += i ? children_[i].to_string_as_factor() : children_[i].to_string_as_first_factor();
         }
         return s;
       }
@@ -242,6 +257,14 @@ class Fusion {
 
   std::string to_string_as_factor() const {
     return kind_ == Kind::WeightedSum ? "(" + to_string() + ")" : to_string();
+  }
+  /// The first factor of a product: bracketed also when it is a classifier
+  /// whose name starts with a digit, which parse_method would read as a
+  /// weight ("2*icp" is 2 x icp; "(2)*icp" the product).
+  std::string to_string_as_first_factor() const {
+    return kind_ == Kind::Classifier && std::isdigit(static_cast<unsigned char>(name_.front()))
+               ? "(" + name_ + ")"
+               : to_string_as_factor();
   }
   void collect(std::vector<std::string>& out) const {
     if (kind_ == Kind::Classifier) {

@@ -244,8 +244,15 @@ class MethodParser {
   Fusion product() {
     std::vector<Fusion> factors{factor()};
     while (eat('*')) factors.push_back(factor());
-    // A factor given twice ranks the objects as it alone does ("icp*icp").
-    refuse_repeated(factors, [](const Fusion& f) -> const Fusion& { return f; }, "product");
+    // A factor given twice ranks the objects as it alone does ("icp*icp"),
+    // also inside a bracketed product, which Fusion::product flattens
+    // ("(icp*bow)*icp").
+    std::vector<Fusion> flat;
+    for (const Fusion& f : factors) {
+      if (f.kind() == Fusion::Kind::Product) flat.insert(flat.end(), f.children().begin(), f.children().end());
+      else flat.push_back(f);
+    }
+    refuse_repeated(flat, [](const Fusion& f) -> const Fusion& { return f; }, "product");
     return factors.size() == 1 ? factors.front() : Fusion::product(std::move(factors));
   }
 

@@ -80,16 +80,19 @@ void normalize(Eigen::Ref<Eigen::VectorXd> d, Normalization kind, const Name& ar
         d.setZero();
         break;
       }
-      // The z-score does not change with a shift or a scale: distances of
-      // magnitude beyond 1e150 (either sign), whose sum or squared
-      // deviations would overflow, are scaled to magnitude 1 first, and
-      // distances less than 1e-150 apart, whose squared deviations would
-      // underflow (1e-150 and 1e-150 (1 + 1e-12) gave 0 and 0), are mapped
-      // onto [0, 1] by (d - min) / (max - min). Others are left as they
-      // are, bit for bit.
+      // The z-score does not change with a shift or a scale, so it is
+      // computed on d - min: distances a few ulps apart kept their offset
+      // in the mean, whose rounding then cancelled their spread ((1, 1 +
+      // 2^-52, 1) gave (0, 1.73, 0), mean 0.58). Distances of magnitude
+      // beyond 1e150 (either sign), whose sum or squared deviations would
+      // overflow, are scaled to magnitude 1 first, and distances less than
+      // 1e-150 apart, whose squared deviations would underflow (1e-150 and
+      // 1e-150 (1 + 1e-12) gave 0 and 0), are mapped onto [0, 1] by
+      // (d - min) / (max - min).
       const double m = std::max(std::abs(lo), std::abs(hi));
       if (m > 1e150) d /= m;
-      else if (hi - lo < 1e-150) d = (d.array() - lo) / (hi - lo);
+      if (m <= 1e150 && hi - lo < 1e-150) d = (d.array() - lo) / (hi - lo);
+      else d.array() -= d.minCoeff();
       const double mean = d.mean();
       const double sd = std::sqrt((d.array() - mean).square().mean());
       if (sd > 0) d = (d.array() - mean) / sd;

@@ -23,6 +23,25 @@
 
 namespace iclap {
 
+namespace detail {
+/// `scale` (an embedding's weight of an axis, in double) as the Scalar
+/// weight the ICP uses. InvalidArgument naming `name` when that is 0,
+/// subnormal or infinite: the ICP divides by its weights, and a float label
+/// scale of 1e-50 became a weight of 0, refused deep in fit as "weights".
+template <typename Scalar>
+Scalar axis_weight(double scale, const char* name) {
+  const auto w = static_cast<Scalar>(scale);
+  if (!(w >= std::numeric_limits<Scalar>::min() && w <= std::numeric_limits<Scalar>::max()))
+    throw InvalidArgument(name, format_value(scale) + " is outside the range of a " +
+                                    (std::is_same_v<Scalar, float> ? "float" : "double") + " weight [" +
+                                    format_value(static_cast<double>(std::numeric_limits<Scalar>::min())) + ", " +
+                                    format_value(static_cast<double>(std::numeric_limits<Scalar>::max())) +
+                                    "]; use a scale within it" +
+                                    (std::is_same_v<Scalar, float> ? ", or double arithmetic" : ""));
+  return w;
+}
+}  // namespace detail
+
 /// How the kinesthetic ICP sees a touch: its position (x, y, z). Paper,
 /// Section IV, "Kinesthetics based object recognition".
 struct PositionEmbedding {
@@ -62,7 +81,7 @@ struct LabeledEmbedding {
   template <typename Scalar, int Dim>
   void weights(Point<Scalar, Dim>& w, Index d) const {
     w = Point<Scalar, Dim>::Ones(d);
-    w(3) = static_cast<Scalar>(label_scale);
+    w(3) = detail::axis_weight<Scalar>(label_scale, "label_scale");
   }
   template <typename Scalar, int Dim>
   void embed(const TouchSet& s, Cloud<Scalar, Dim>& out) const {
@@ -94,7 +113,7 @@ struct DescriptorEmbedding {
   }
   template <typename Scalar, int Dim>
   void weights(Point<Scalar, Dim>& w, Index d) const {
-    w = Point<Scalar, Dim>::Constant(d, static_cast<Scalar>(descriptor_scale));
+    w = Point<Scalar, Dim>::Constant(d, detail::axis_weight<Scalar>(descriptor_scale, "descriptor_scale"));
     w.template head<3>().setOnes();
   }
   template <typename Scalar, int Dim>
@@ -152,7 +171,7 @@ struct ContactEmbedding {
   template <typename Scalar, int Dim>
   void weights(Point<Scalar, Dim>& w, Index d) const {
     w = Point<Scalar, Dim>::Ones(d);
-    if (Labeled) w(3) = static_cast<Scalar>(label_scale);
+    if (Labeled) w(3) = detail::axis_weight<Scalar>(label_scale, "label_scale");
   }
   template <typename Scalar, int Dim>
   void embed(const TouchSet& s, Cloud<Scalar, Dim>& out) const {
