@@ -397,10 +397,11 @@ TEST_CASE("WtsSensor: stop_periodic_frames is false when the sensor refuses or s
     CHECK(e.status() == 3);
     CHECK(std::string(e.what()) == "sensor refused 'stop periodic frames' with status 3");
   }
-  // ... and stop_periodic_frames() reports it as false.
+  // ... and stop_periodic_frames() reports it as false; the sensor may
+  // still stream, so the destructor would send the stop again.
   s.push(encode_reply(Reply{wts_id::kStopPeriodicFrames, 3, {}}));
   CHECK_FALSE(sensor.stop_periodic_frames());
-  CHECK_FALSE(sensor.streaming());
+  CHECK(sensor.streaming());
   // Silent: false after every attempt (request() would time out).
   const std::size_t sent = s.written.size();
   CHECK_FALSE(sensor.stop_periodic_frames());
@@ -408,9 +409,10 @@ TEST_CASE("WtsSensor: stop_periodic_frames is false when the sensor refuses or s
   CHECK(s.written.back() == encode_stop_periodic_frames());
   CHECK_THROWS_WITH_AS(sensor.request(encode_stop_periodic_frames()),
                        "scripted: no reply to 'stop periodic frames' after 2 attempt(s) of 1 ms", WtsTimeout);
-  // Acknowledged: true.
+  // Acknowledged: true, and no longer streaming.
   s.push(encode_reply(Reply{wts_id::kStopPeriodicFrames, 0, {}}));
   CHECK(sensor.stop_periodic_frames());
+  CHECK_FALSE(sensor.streaming());
   CHECK_FALSE(sensor.lost());
 }
 

@@ -56,8 +56,11 @@ struct FramerStats {
 /// chunked: feeding a stream at once or byte by byte yields the same packets
 /// and the same counters (tests and the fuzzer check this). The price: a
 /// valid packet that carries a complete valid packet in its payload (a loop
-/// echo of a packet) yields the inner packet only. WTS frames cannot do
-/// this by accident: 12-bit taxels never contain AA AA.
+/// echo of a packet) yields the inner packet only. In a WTS frame only the
+/// 32-bit timestamp can hold AA AA AA (12-bit taxels never hold AA AA), so
+/// a frame is lost this way only when its timestamp is 0x??AAAAAA or
+/// 0xAAAAAA?? and the bytes after it also form a packet whose 16-bit CRC
+/// checks, about once in 2^40 frames or fewer.
 ///
 /// A feed() after finish() first settles the finished stream exactly as
 /// next() would (complete packets are kept for next(), an incomplete tail is

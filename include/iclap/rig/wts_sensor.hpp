@@ -44,7 +44,11 @@ class WtsTimeout : public Error {
 /// Replies are matched to commands by id; frames that arrive while a reply
 /// is awaited are queued (up to `Settings::max_queued_frames`, oldest
 /// dropped first and counted) and returned by next_frame() in order.
-/// Replies nobody waits for are ignored.
+/// Replies nobody waits for are ignored. The protocol numbers no request,
+/// so a reply that comes after its attempt timed out (and the command was
+/// sent again) is taken as the answer to the next request with that id:
+/// keep `reply_timeout` above the sensor's slowest answer (a WTS answers in
+/// milliseconds; the default waits a second).
 ///
 /// Device loss: when the stream reports DeviceLost, the parser is finished
 /// and every frame received intact before the loss is still returned by
@@ -146,17 +150,27 @@ class WtsSensor {
   void start_periodic_frames(double rate) {
     const std::uint16_t delay = delay_ms_for_rate(rate);
     discard_frames();
-    request_ok(encode_start_periodic_frames(delay));
+    // Streaming from the moment the command may have reached the sensor: a
+    // start whose reply timed out may have started it, and the destructor
+    // must then stop it. A refusal (the sensor answered) did not.
     streaming_ = true;
+    try {
+      request_ok(encode_start_periodic_frames(delay));
+    } catch (const WtsCommandError&) {
+      streaming_ = false;
+      throw;
+    }
   }
 
   /// Stops periodic frames. Returns whether the sensor acknowledged (a
   /// silent sensor is not an error here: this also runs on the way out).
-  /// Frames already queued stay queued. DeviceLost passes through.
+  /// Until it does, the sensor counts as streaming, so the destructor sends
+  /// the stop again. Frames already queued stay queued. DeviceLost passes
+  /// through.
   bool stop_periodic_frames() {
-    streaming_ = false;
     try {
       request_ok(encode_stop_periodic_frames());
+      streaming_ = false;
       return true;
     } catch (const WtsTimeout&) {
       return false;
@@ -207,6 +221,9 @@ class WtsSensor {
   ParserStats stats() const noexcept { return parser_.stats(); }
   /// Frames dropped because the queue was full.
   std::uint64_t frames_overflowed() const noexcept { return overflowed_; }
+  /// Whether the sensor may be streaming frames this object started: from
+  /// start_periodic_frames() (even one that timed out) until a stop the
+  /// sensor acknowledged, or the loss of the device.
   bool streaming() const noexcept { return streaming_; }
   /// Whether the device was lost (the message of the loss in lost_reason()).
   bool lost() const noexcept { return lost_.has_value(); }
