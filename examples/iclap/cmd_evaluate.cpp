@@ -427,6 +427,11 @@ class StagedOutput {
       std::error_code ec;
       const fs::file_status st = fs::status(out_, ec);
       if (fs::exists(st) && !fs::is_directory(st)) throw IoError(out_.string(), "exists and is not a directory");
+      // A link to a missing path passed as "missing" here, and the run's
+      // end then failed to create OUT, after the whole run.
+      if (!fs::exists(st) && fs::is_symlink(fs::symlink_status(out_, ec)))
+        throw IoError(out_.string(), "is a symbolic link to " + fs::read_symlink(out_, ec).string() +
+                                         ", which does not exist; create it or name another directory");
       if (fs::is_directory(st) && ::access(out_.c_str(), W_OK | X_OK) != 0)
         throw IoError(out_.string(), std::string("cannot write into the output directory: ") + std::strerror(errno));
     }
@@ -735,6 +740,7 @@ int run_evaluate(const Args& args) {
     throw UsageError("--sim-seed seeds the built-in simulation; it does not apply to a dataset FILE");
 
   const std::vector<std::string> needed = needed_classifiers(named);
+  ro.check_trim_names(needed);
   // --trim auto (one classifier variant per fraction) and lists of occupancy
   // settings (one per combination): variants chosen like the weights.
   const std::vector<Method> methods = ro.expand_choices(named, needed);

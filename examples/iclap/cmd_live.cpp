@@ -736,6 +736,7 @@ int run_live_command(const Args& args) {
   setup.cv.zero_weights = o.flag("zero-weights");
   setup.cv.threads = static_cast<int>(o.integer("threads", setup.cv.threads, 0, 4096));
   const std::vector<std::string> needed = needed_classifiers({setup.method});
+  setup.ro.check_trim_names(needed);
   const RecognitionOptions ro = setup.ro;
   setup.factory = [ro, needed] { return make_classifiers(ro, needed); };
   {

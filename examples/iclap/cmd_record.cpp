@@ -108,18 +108,6 @@ std::string drop_summary(const rig::WtsSensor& sensor) {
   return out;
 }
 
-// A file size limit (ulimit -f) makes a write fail (EFBIG: the appender cuts
-// the file back and throws WriteError, this command removes a file it
-// created without a row) instead of killing the process with SIGXFSZ
-// between the creation of the file and its first row. For the rest of the
-// process: the error message itself may go to a file under the same limit.
-void ignore_file_size_signal() {
-  struct sigaction sa {};
-  sa.sa_handler = SIG_IGN;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGXFSZ, &sa, nullptr);
-}
-
 // Throws IoError naming `path` unless a new file can be created there (a
 // missing directory, no permission): checked before the sensor streams,
 // although the file itself is only created at the first frame.
@@ -222,7 +210,6 @@ int run_record(const Args& args) {
                        " frames/s; t is the sensor clock in seconds");
     comments.push_back("poses: " + poses->description());
   }
-  ignore_file_size_signal();
   std::error_code ec;
   const bool existed = fs::exists(out_path, ec);
   // An existing empty file is treated as new (it gets the header at the

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -28,6 +29,16 @@ void print_help(std::FILE* out) {
   for (const auto& c : commands) std::fprintf(out, "  %-10s %s\n", c.name.c_str(), c.summary.c_str());
 }
 
+/// `status`, or kExitFailure with a message when what was printed to stdout
+/// did not reach its destination (a full disk behind `> out.json` is a
+/// failed run, not a silent success; `iclap --help > /dev/full` too).
+int flushed(const std::string& who, int status) {
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return status;
+  const int err = errno;
+  std::fprintf(stderr, "%s: <stdout>: write failed: %s\n", who.c_str(), std::strerror(err));
+  return iclap::cli::kExitFailure;
+}
+
 /// The synopsis of a command's usage text: its lines up to the first blank
 /// one (the "usage: iclap NAME ..." lines).
 std::string synopsis(const std::string& usage) {
@@ -39,6 +50,15 @@ std::string synopsis(const std::string& usage) {
 
 int main(int argc, char** argv) {
   using namespace iclap::cli;
+#ifdef SIGXFSZ
+  // A file size limit (ulimit -f) makes a write fail with EFBIG, a
+  // WriteError whose handling removes what was half written (temporary
+  // files, the staging directory, a recording's header-only file), instead
+  // of killing the process with SIGXFSZ and leaving them behind. For the
+  // whole process: the error message itself may go to a file under the
+  // same limit.
+  std::signal(SIGXFSZ, SIG_IGN);
+#endif
   if (argc < 2) {
     print_help(stderr);
     return kExitBadInput;
@@ -46,11 +66,11 @@ int main(int argc, char** argv) {
   const std::string name = argv[1];
   if (name == "help" || name == "--help" || name == "-h") {
     print_help(stdout);
-    return kExitOk;
+    return flushed("iclap", kExitOk);
   }
   if (name == "--version") {
     std::printf("iclap %s\n", ICLAP_VERSION_STRING);
-    return kExitOk;
+    return flushed("iclap", kExitOk);
   }
   const auto& commands = registry();
   const auto it = std::find_if(commands.begin(), commands.end(),
@@ -60,22 +80,16 @@ int main(int argc, char** argv) {
     return kExitBadInput;
   }
   const Args args(argv + 2, argv + argc);
-  // -h as after the program's name ("iclap evaluate -h" took it for a file).
-  if (std::find(args.begin(), args.end(), "--help") != args.end() ||
-      std::find(args.begin(), args.end(), "-h") != args.end()) {
+  // -h as after the program's name ("iclap evaluate -h" took it for a file),
+  // among the options: after "--", which ends them, it is an operand.
+  const auto options_end = std::find(args.begin(), args.end(), "--");
+  if (std::find(args.begin(), options_end, "--help") != options_end ||
+      std::find(args.begin(), options_end, "-h") != options_end) {
     std::printf("%s\n", it->usage.c_str());
-    return kExitOk;
+    return flushed("iclap " + name, kExitOk);
   }
   try {
-    const int status = it->run(args);
-    // What the command printed must have reached its destination (a full
-    // disk behind `> out.json` is a failed run, not a silent success).
-    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
-      const int err = errno;
-      std::fprintf(stderr, "iclap %s: <stdout>: write failed: %s\n", name.c_str(), std::strerror(err));
-      return kExitFailure;
-    }
-    return status;
+    return flushed("iclap " + name, it->run(args));
   } catch (const UsageError& e) {
     // The message, then only the synopsis: the whole option list would
     // scroll the message off the terminal.

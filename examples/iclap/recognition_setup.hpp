@@ -16,6 +16,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli.hpp"
@@ -261,6 +262,19 @@ struct RecognitionOptions {
     return heights;
   }
 
+  /// UsageError naming --trim and the classifier when --trim NAME=F or
+  /// NAME=auto names a classifier no method in `needed` uses: it was
+  /// dropped without a word (`--methods bow --trim icp=0.5` ran plain bow).
+  void check_trim_names(const std::vector<std::string>& needed) const {
+    std::vector<std::string> named;
+    for (const auto& [name, f] : trim_by_name) named.push_back(name);
+    named.insert(named.end(), trim_auto_by_name.begin(), trim_auto_by_name.end());
+    for (const auto& name : named)
+      if (std::find(needed.begin(), needed.end(), name) == needed.end())
+        throw UsageError("--trim names '" + name + "', which no method uses (they use: " + Options::join(needed, ", ") +
+                         ")");
+  }
+
   /// The classifiers to build for `needed` (the methods' own names): each
   /// one whose settings are chosen on the training folds becomes its
   /// variants.
@@ -455,6 +469,17 @@ struct RecognitionOptions {
     // rather than as inf in the middle of the run or as 0 (no relative stop).
     if (scalar == "float" && o.has("relative-tolerance"))
       check_float_value("relative-tolerance", o.string("relative-tolerance"), relative_tolerance);
+    // The float ICP weighs the label and descriptor axes by the scales as
+    // floats: one below float's smallest normal number was refused inside
+    // the run, as the dataset's "weights".
+    if (scalar == "float")
+      for (const auto& [name, v] : {std::pair<const char*, double>{"label-scale", label_scale},
+                                    std::pair<const char*, double>{"descriptor-scale", descriptor_scale}})
+        if (static_cast<float>(v) < std::numeric_limits<float>::min())
+          throw UsageError(std::string("--") + name + " " + format_value(v) +
+                           " is below the smallest normal float, " +
+                           format_value(static_cast<double>(std::numeric_limits<float>::min())) +
+                           ", which the float ICP weighs by; use a larger scale or --scalar double");
     parse_occupancy(o);
   }
 

@@ -141,11 +141,13 @@ if(EXISTS ${WORK_DIR}/fitted2)
 endif()
 # Output that cannot be written part-way (a file size limit of 2 KiB, as on a
 # full disk; the figures are larger) fails with exit status 1 and leaves the
-# output directory as it was, with no staging directory beside it.
+# output directory as it was, with no staging directory beside it. The
+# program ignores SIGXFSZ itself: with the signal's default action it was
+# killed (exit 153) and left OUT.partial-PID-N behind.
 file(MAKE_DIRECTORY ${WORK_DIR}/full)
 file(WRITE ${WORK_DIR}/full/results.csv "old results\n")
 # (Lines, not semicolons, in the script: run_expect's arguments are a list.)
-run_expect(1 bash -c "trap '' XFSZ\nulimit -f 2\nexec \"$0\" \"$@\"" ${ICLAP} evaluate ${WORK_DIR}/three.csv
+run_expect(1 bash -c "trap - XFSZ\nulimit -f 2\nexec \"$0\" \"$@\"" ${ICLAP} evaluate ${WORK_DIR}/three.csv
            --touches 1,2 --repeats 2 --weight-repeats 1 --out ${WORK_DIR}/full)
 expect_match("${err}" "full/[a-z_]+\\.(csv|svg): write failed; .*full was left as it was")
 file(READ ${WORK_DIR}/full/results.csv old)
@@ -158,6 +160,19 @@ endif()
 if(EXISTS /dev/full)
   run_expect(1 bash -c "exec \"$0\" \"$@\" > /dev/full" ${ICLAP} info ${WORK_DIR}/three.csv)
   expect_match("${err}" "<stdout>: write failed")
+  # Help and version text too (they exited 0).
+  run_expect(1 bash -c "exec \"$0\" \"$@\" > /dev/full" ${ICLAP} evaluate --help)
+  expect_match("${err}" "iclap evaluate: <stdout>: write failed")
+  run_expect(1 bash -c "exec \"$0\" \"$@\" > /dev/full" ${ICLAP} --version)
+  expect_match("${err}" "iclap: <stdout>: write failed")
+endif()
+# An --out that is a symbolic link to a missing path is refused before the
+# run (the run was done, then creating OUT failed).
+file(CREATE_LINK ${WORK_DIR}/nowhere ${WORK_DIR}/dangling SYMBOLIC)
+run_expect(2 ${ICLAP} evaluate ${WORK_DIR}/three.csv --touches 1 --out ${WORK_DIR}/dangling)
+expect_match("${err}" "dangling: is a symbolic link to .*nowhere, which does not exist; create it or name another directory")
+if(out MATCHES "touches")
+  message(FATAL_ERROR "the run went ahead with a dangling --out:\n${out}")
 endif()
 # Bad --out values are refused before the run.
 file(WRITE ${WORK_DIR}/a_file "x")
