@@ -16,30 +16,18 @@
 #include <unistd.h>
 
 #include "iclap/recognition/recognition.hpp"
+#include "fusion_test_util.hpp"
 #include "../support/child_outcome.hpp"
 
 using namespace iclap;
+using iclap::test::error_of;
+using iclap::test::vec;
 
 namespace {
 DistanceTable table_of(std::initializer_list<std::pair<const char*, Eigen::VectorXd>> entries) {
   DistanceTable t;
   for (const auto& e : entries) t.set(e.first, e.second);
   return t;
-}
-Eigen::VectorXd vec(std::initializer_list<double> v) {
-  Eigen::VectorXd x(static_cast<Index>(v.size()));
-  Index i = 0;
-  for (double d : v) x(i++) = d;
-  return x;
-}
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InvalidArgument& e) {
-    return std::string(e.argument()) + " | " + e.what();
-  }
-  return "(no error)";
 }
 }  // namespace
 

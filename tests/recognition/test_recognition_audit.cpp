@@ -11,26 +11,11 @@
 #include <vector>
 
 #include "iclap/recognition/recognition.hpp"
+#include "fusion_test_util.hpp"
 
 using namespace iclap;
-
-namespace {
-Eigen::VectorXd vec(std::initializer_list<double> v) {
-  Eigen::VectorXd x(static_cast<Index>(v.size()));
-  Index i = 0;
-  for (double d : v) x(i++) = d;
-  return x;
-}
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InvalidArgument& e) {
-    return std::string(e.argument()) + " | " + e.what();
-  }
-  return "(no error)";
-}
-}  // namespace
+using iclap::test::error_of;
+using iclap::test::vec;
 
 // Input: parse_method("(icp*bow)*icp") and parse_method("icp*(bow*icp)").
 // Now: accepted, as the fusion icp*bow*icp (Fusion::product flattens the

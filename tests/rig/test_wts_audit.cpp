@@ -75,6 +75,14 @@ class SlowSensorStream final : public ByteStream {
   std::string name_ = "slow sensor";
 };
 
+// Settings under which every reply of a SlowSensorStream of 300 ms is late.
+WtsSensor::Settings impatient() {
+  WtsSensor::Settings st;
+  st.reply_timeout = 50ms;
+  st.attempts = 1;
+  return st;
+}
+
 }  // namespace
 
 // Input: attempts = 1, reply_timeout 50 ms, a sensor that answers after
@@ -89,10 +97,7 @@ class SlowSensorStream final : public ByteStream {
 TEST_CASE("WtsSensor audit: a start_periodic_frames that timed out is stopped by the destructor") {
   SlowSensorStream s(300ms);
   {
-    WtsSensor::Settings st;
-    st.reply_timeout = 50ms;
-    st.attempts = 1;
-    WtsSensor sensor(s, st);
+    WtsSensor sensor(s, impatient());
     CHECK_THROWS_AS(sensor.start_periodic_frames(5.0), WtsTimeout);
     CHECK(sensor.streaming());
   }
@@ -107,10 +112,7 @@ TEST_CASE("WtsSensor audit: a start_periodic_frames that timed out is stopped by
 TEST_CASE("WtsSensor audit: a stop that timed out is sent again by the destructor") {
   SlowSensorStream s(300ms);
   {
-    WtsSensor::Settings st;
-    st.reply_timeout = 50ms;
-    st.attempts = 1;
-    WtsSensor sensor(s, st);
+    WtsSensor sensor(s, impatient());
     CHECK_THROWS_AS(sensor.start_periodic_frames(5.0), WtsTimeout);
     CHECK_FALSE(sensor.stop_periodic_frames());
     CHECK(sensor.streaming());
