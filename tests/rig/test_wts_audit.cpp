@@ -20,6 +20,7 @@
 #include "iclap/rig/wts_message.hpp"
 #include "iclap/rig/wts_protocol.hpp"
 #include "iclap/rig/wts_sensor.hpp"
+#include "rig_test_util.hpp"
 
 using namespace iclap::rig;
 using namespace std::chrono_literals;
@@ -133,4 +134,19 @@ TEST_CASE("WtsSensor audit: an acknowledged stop is not sent again") {
     CHECK_FALSE(sensor.streaming());
   }
   CHECK(s.commands == std::vector<std::uint8_t>{wts_id::kStartPeriodicFrames, wts_id::kStopPeriodicFrames});
+}
+
+// A start the sensor refuses changes nothing: not streaming before, not
+// after; streaming before (a start acknowledged earlier), still streaming.
+TEST_CASE("WtsSensor audit: a refused start leaves the streaming state as it was") {
+  test::MemoryStream s("scripted");
+  WtsSensor sensor(s);
+  s.push(encode_reply(Reply{wts_id::kStartPeriodicFrames, 3, {}}));
+  CHECK_THROWS_AS(sensor.start_periodic_frames(5.0), WtsCommandError);
+  CHECK_FALSE(sensor.streaming());
+  s.push(encode_reply(Reply{wts_id::kStartPeriodicFrames, 0, {}}));
+  sensor.start_periodic_frames(5.0);
+  s.push(encode_reply(Reply{wts_id::kStartPeriodicFrames, 3, {}}));
+  CHECK_THROWS_AS(sensor.start_periodic_frames(10.0), WtsCommandError);
+  CHECK(sensor.streaming());
 }

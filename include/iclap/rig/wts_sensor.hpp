@@ -152,12 +152,13 @@ class WtsSensor {
     discard_frames();
     // Streaming from the moment the command may have reached the sensor: a
     // start whose reply timed out may have started it, and the destructor
-    // must then stop it. A refusal (the sensor answered) did not.
+    // must then stop it. A refusal (the sensor answered) changed nothing.
+    const bool was_streaming = streaming_;
     streaming_ = true;
     try {
       request_ok(encode_start_periodic_frames(delay));
     } catch (const WtsCommandError&) {
-      streaming_ = false;
+      streaming_ = was_streaming;
       throw;
     }
   }
