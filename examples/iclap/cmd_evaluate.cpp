@@ -741,6 +741,7 @@ int run_evaluate(const Args& args) {
 
   const std::vector<std::string> needed = needed_classifiers(named);
   ro.check_trim_names(needed);
+  RecognitionOptions::check_options_used(opt, needed);
   // --trim auto (one classifier variant per fraction) and lists of occupancy
   // settings (one per combination): variants chosen like the weights.
   const std::vector<Method> methods = ro.expand_choices(named, needed);

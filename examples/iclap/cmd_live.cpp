@@ -611,7 +611,8 @@ int run_live(const Options& o, const LiveOptions& live, const Setup& setup, cons
   };
 
   std::string how;
-  const bool check_positions_of_touches = reads_positions(needed_classifiers({setup.method}));
+  const std::vector<std::string> needed = needed_classifiers({setup.method});
+  const bool check_positions_of_touches = reads_positions(needed);
   try {
     if (src.sensor) src.sensor->start_periodic_frames(src.rate);
     rig::PosedFrame pf;
@@ -648,7 +649,7 @@ int run_live(const Options& o, const LiveOptions& live, const Setup& setup, cons
       frame.position = pf.pose.position;
       frame.orientation = pf.pose.orientation;
       if (check_positions_of_touches) {
-        const std::string problem = position_problem(frame.position, setup.ro);
+        const std::string problem = position_problem(frame.position, setup.ro, needed);
         if (!problem.empty()) {
           // A dataset's row by its labels (as the references' check);
           // otherwise the count of frames received.
@@ -737,6 +738,7 @@ int run_live_command(const Args& args) {
   setup.cv.threads = static_cast<int>(o.integer("threads", setup.cv.threads, 0, 4096));
   const std::vector<std::string> needed = needed_classifiers({setup.method});
   setup.ro.check_trim_names(needed);
+  RecognitionOptions::check_options_used(o, needed);
   const RecognitionOptions ro = setup.ro;
   setup.factory = [ro, needed] { return make_classifiers(ro, needed); };
   {

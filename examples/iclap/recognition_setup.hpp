@@ -275,6 +275,42 @@ struct RecognitionOptions {
                          ")");
   }
 
+  /// The classifiers that read option `name`, for an option only some of
+  /// them read; empty for the others (the descriptor, the codebook, the
+  /// contact threshold, --trim: checked by check_trim_names).
+  static std::vector<std::string> option_readers(const std::string& name) {
+    if (name == "label-scale") return {"iclap", "iclap_patch"};
+    if (name == "descriptor-scale") return {"iclapn"};
+    if (name == "tilt-scale") return {"height", "height_contact"};
+    if (name == "contact-scale") return {"height_contact"};
+    if (name == "patch-points" || name == "patch-voxel") return {"patch", "iclap_patch"};
+    if (name.rfind("occupancy-", 0) == 0 || name.rfind("placement-", 0) == 0) return {"occupancy"};
+    if (name == "transform" || name == "scalar" || name == "search" || name == "max-iterations" ||
+        name == "relative-tolerance")
+      return registration_classifiers();
+    return {};
+  }
+
+  /// UsageError naming the first option given in `o` that only classifiers
+  /// outside `needed` (the methods' classifiers) read: `--methods bow
+  /// --label-scale 0.01` ran bow and dropped the scale without a word, so a
+  /// typo in --methods passed for an experiment on the option.
+  static void check_options_used(const Options& o, const std::vector<std::string>& needed) {
+    for (const auto& name : value_options()) {
+      if (!o.has(name)) continue;
+      const auto readers = option_readers(name);
+      if (readers.empty() || std::any_of(readers.begin(), readers.end(), [&](const std::string& r) {
+            return std::find(needed.begin(), needed.end(), r) != needed.end();
+          }))
+        continue;
+      std::string list = readers.front();
+      for (std::size_t i = 1; i < readers.size(); ++i) list += (i + 1 == readers.size() ? " and " : ", ") + readers[i];
+      throw UsageError("--" + name + " sets only " + list +
+                       (readers.size() == 1 ? ", which no method uses" : ", none of which a method uses") +
+                       " (they use: " + Options::join(needed, ", ") + ")");
+    }
+  }
+
   /// The classifiers to build for `needed` (the methods' own names): each
   /// one whose settings are chosen on the training folds becomes its
   /// variants.
@@ -470,16 +506,17 @@ struct RecognitionOptions {
     if (scalar == "float" && o.has("relative-tolerance"))
       check_float_value("relative-tolerance", o.string("relative-tolerance"), relative_tolerance);
     // The float ICP weighs the label and descriptor axes by the scales as
-    // floats: one below float's smallest normal number was refused inside
-    // the run, as the dataset's "weights".
+    // floats: the classifier's own check (detail::axis_weight), made here so
+    // that the error names the option before the run rather than in it.
     if (scalar == "float")
       for (const auto& [name, v] : {std::pair<const char*, double>{"label-scale", label_scale},
-                                    std::pair<const char*, double>{"descriptor-scale", descriptor_scale}})
-        if (static_cast<float>(v) < std::numeric_limits<float>::min())
-          throw UsageError(std::string("--") + name + " " + format_value(v) +
-                           " is below the smallest normal float, " +
-                           format_value(static_cast<double>(std::numeric_limits<float>::min())) +
-                           ", which the float ICP weighs by; use a larger scale or --scalar double");
+                                    std::pair<const char*, double>{"descriptor-scale", descriptor_scale}}) {
+        try {
+          iclap::detail::axis_weight<float>(v, name);
+        } catch (const InvalidArgument& e) {
+          throw UsageError(std::string("--") + name + " " + e.reason() + " (--scalar double)");
+        }
+      }
     parse_occupancy(o);
   }
 
@@ -822,16 +859,20 @@ inline double largest_position(const std::string& scalar) {
   return scalar == "double" ? largest_coordinate<double>() : largest_coordinate<float>();
 }
 
-/// Empty when the ICP of `ro.scalar` takes `position`, otherwise why not
-/// (a coordinate beyond largest_position: a unit error, or 1e300 m that a
-/// float cloud would hold as inf).
-inline std::string position_problem(const Eigen::Vector3d& position, const RecognitionOptions& ro) {
-  const double limit = largest_position(ro.scalar);
+/// Empty when the classifiers among `needed` take `position`, otherwise why
+/// not (a coordinate beyond largest_position: a unit error, or 1e300 m that
+/// a float cloud would hold as inf). The ICP of `ro.scalar` bounds it when a
+/// registration classifier is among them; the others compute in double.
+inline std::string position_problem(const Eigen::Vector3d& position, const RecognitionOptions& ro,
+                                    const std::vector<std::string>& needed) {
+  const bool icp = std::any_of(needed.begin(), needed.end(), is_registration_classifier);
+  const std::string scalar = icp ? ro.scalar : "double";
+  const double limit = largest_position(scalar);
   for (Index r = 0; r < 3; ++r)
     if (!(std::abs(position(r)) <= limit))
-      return "position coordinate " + format_value(position(r)) + " m is beyond the " + ro.scalar +
-             " ICP's range (|v| <= " + format_value(limit) + " m); check the unit of x, y, z" +
-             (ro.scalar == "float" ? ", or use --scalar double" : "");
+      return "position coordinate " + format_value(position(r)) + " m is beyond the " +
+             (icp ? scalar + " ICP's" : std::string("classifiers'")) + " range (|v| <= " + format_value(limit) +
+             " m); check the unit of x, y, z" + (scalar == "float" ? ", or use --scalar double" : "");
   return {};
 }
 
@@ -865,7 +906,7 @@ inline void check_positions(const std::vector<std::string>& needed, const TouchT
            std::to_string(table.exploration[t]) + " frame " + std::to_string(table.frame[t]) + ": ";
   };
   for (Index i = 0; i < table.size(); ++i) {
-    const std::string problem = position_problem(table.touches.positions.col(i), ro);
+    const std::string problem = position_problem(table.touches.positions.col(i), ro, needed);
     if (!problem.empty()) throw InvalidArgument(origin, touch(i) + problem);
   }
   // The patch classifiers average a reference's points per --patch-voxel

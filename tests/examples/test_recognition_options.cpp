@@ -306,3 +306,42 @@ TEST_CASE("--relative-tolerance: a value that float would make inf or 0 is refus
   CHECK(parsed({"--scalar", "double", "--relative-tolerance", "1e300"}).relative_tolerance == 1e300);
   CHECK(parsed({"--scalar", "double", "--relative-tolerance", "1e-50"}).relative_tolerance == 1e-50);
 }
+
+// An option only some classifiers read, given with methods that use none of
+// them, was dropped without a word: `--methods bow --label-scale 0.01` ran
+// bow as if the scale had not been given.
+TEST_CASE("an option only classifiers outside the methods read is refused, naming the option and its readers") {
+  auto error = [](const Args& args, const std::vector<std::string>& needed) {
+    const Options o(args, RecognitionOptions::value_options());
+    return iclap::test::what_of<iclap::cli::UsageError>(
+        [&] { RecognitionOptions::check_options_used(o, needed); });
+  };
+  auto accepted = [](const Args& args, const std::vector<std::string>& needed) {
+    const Options o(args, RecognitionOptions::value_options());
+    RecognitionOptions::check_options_used(o, needed);
+    return true;
+  };
+  CHECK(error({"--label-scale", "0.01"}, {"bow", "icp"}) ==
+        "--label-scale sets only iclap and iclap_patch, none of which a method uses (they use: bow, icp)");
+  CHECK(error({"--descriptor-scale", "0.1"}, {"iclap"}) ==
+        "--descriptor-scale sets only iclapn, which no method uses (they use: iclap)");
+  CHECK(error({"--contact-scale", "0.5"}, {"height"}) ==
+        "--contact-scale sets only height_contact, which no method uses (they use: height)");
+  CHECK(error({"--patch-voxel", "0.002"}, {"icp"}) ==
+        "--patch-voxel sets only patch and iclap_patch, none of which a method uses (they use: icp)");
+  CHECK(error({"--placement-shift", "0.02"}, {"height_contact"}) ==
+        "--placement-shift sets only occupancy, which no method uses (they use: height_contact)");
+  CHECK(error({"--occupancy-back", "0.006"}, {"bow"}) ==
+        "--occupancy-back sets only occupancy, which no method uses (they use: bow)");
+  CHECK(error({"--scalar", "double"}, {"bow", "height", "occupancy"}) ==
+        "--scalar sets only icp, iclap, iclapn, patch and iclap_patch, none of which a method uses (they use: bow, "
+        "height, occupancy)");
+  CHECK(error({"--max-iterations", "5"}, {"occupancy"}).rfind("--max-iterations sets only icp, ", 0) == 0);
+  // Any one reader among the methods is enough; options every classifier
+  // or the codebook reads are never refused.
+  CHECK(accepted({"--label-scale", "0.01"}, {"bow", "iclap_patch"}));
+  CHECK(accepted({"--tilt-scale", "0.02", "--contact-scale", "0.5"}, {"height_contact"}));
+  CHECK(accepted({"--transform", "full", "--search", "brute", "--relative-tolerance", "0"}, {"iclapn"}));
+  CHECK(accepted({"--occupancy-voxel", "0.002", "--placement-yaw-deg", "5"}, {"occupancy"}));
+  CHECK(accepted({"--k", "10", "--descriptor", "raw", "--contact-threshold", "3"}, {"icp"}));
+}
