@@ -6,7 +6,6 @@
 #include <cstddef>
 #include <exception>
 #include <mutex>
-#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -39,8 +38,13 @@ void parallel_for(std::size_t count, unsigned threads, Body&& body) {
   std::mutex error_mutex;
   auto worker = [&](unsigned id) {
     for (;;) {
-      const std::size_t i = next++;
-      if (i >= count) return;
+      // Claimed only below count: an unconditional next++ went on past
+      // count (set to it after a failure) and wrapped to item 0 again for a
+      // count near SIZE_MAX.
+      std::size_t i = next.load();
+      do {
+        if (i >= count) return;
+      } while (!next.compare_exchange_weak(i, i + 1));
       try {
         body(i, id);
       } catch (...) {
@@ -59,10 +63,11 @@ void parallel_for(std::size_t count, unsigned threads, Body&& body) {
   pool.reserve(n - 1);
   try {
     for (unsigned id = 1; id < n; ++id) pool.emplace_back(worker, id);
-  } catch (const std::system_error&) {
-    // The system refused a thread (no memory for its stack, a process
-    // limit): the items run on the threads already started. Letting the
-    // exception leave would destroy joinable threads (std::terminate).
+  } catch (...) {
+    // The system refused a thread (no memory for its stack or its state,
+    // std::bad_alloc; a process limit, std::system_error): the items run on
+    // the threads already started. Letting the exception leave would destroy
+    // joinable threads (std::terminate).
   }
   worker(0);
   for (auto& t : pool) t.join();
