@@ -102,8 +102,14 @@ class Recognizer {
   }
 
   /// Fits every classifier on the same training touches (one set per object).
+  /// When a classifier refuses them, its error passes on and the recogniser
+  /// is unusable until a fit succeeds: the classifiers before it hold the
+  /// new training set and those after it the old one, and `distances`
+  /// would fuse the two without a word.
   void fit(const std::vector<TouchSet>& objects, Index vocabulary) {
+    fit_failed_ = true;
     for (auto& c : classifiers_) c->fit(objects, vocabulary);
+    fit_failed_ = false;
   }
 
   Index objects() const { return classifiers_.front()->objects(); }
@@ -111,7 +117,7 @@ class Recognizer {
   /// Normalised distances of every classifier (or of those named in `only`,
   /// if not empty) from `test` to every object. If `seconds` is given (one
   /// entry per classifier, in order), each classifier's time is added to it.
-  /// Throws InvalidArgument naming "recognizer" before `fit`, naming "only"
+  /// Throws InvalidArgument naming "recognizer" before `fit` or after a failed one, naming "only"
   /// for a name that is no classifier's, and what `normalize` throws for a
   /// classifier's NaN, infinite or negative distance, naming "distances of
   /// 'NAME'" (as DistanceTable::set does).
@@ -188,8 +194,12 @@ class Recognizer {
   }
 
   /// Throws InvalidArgument naming "recognizer" before `fit` (or after a
-  /// fit on no object): its classifiers would measure against no object.
+  /// fit on no object): its classifiers would measure against no object;
+  /// and after a fit that failed part-way (see fit).
   void check_fitted() const {
+    if (fit_failed_)
+      throw InvalidArgument("recognizer", "its last fit failed, leaving classifiers fitted on different training "
+                                          "sets; fit again");
     if (objects() < 1) throw InvalidArgument("recognizer", "is not fitted (no object to recognise); call fit first");
   }
 
@@ -233,6 +243,7 @@ class Recognizer {
 
   std::vector<std::unique_ptr<Classifier>> classifiers_;
   Normalization normalization_;
+  bool fit_failed_ = false;  ///< the last fit threw part-way (see fit)
 };
 
 }  // namespace iclap
