@@ -19,20 +19,27 @@ class BowClassifier final : public Classifier {
   std::string name() const override { return "bow"; }
 
   /// Throws EmptyInput naming "objects[j].words" for an object without
-  /// words, InvalidArgument naming it for a word id outside the vocabulary.
+  /// words, InvalidArgument naming it for a word id outside the vocabulary,
+  /// and DimensionMismatch naming "objects[j].words (touches)" for words
+  /// that are not one per touch (TouchSet::validate_layout), as the
+  /// registration classifiers and the pool path refuse them.
   void fit(const std::vector<TouchSet>& objects, Index vocabulary) override {
     if (objects.empty()) throw EmptyInput("objects", "no object to recognise");
     if (vocabulary < 1)
       throw InvalidArgument("vocabulary", "must be at least 1 word, got " + std::to_string(vocabulary));
     Eigen::MatrixXd h(vocabulary, static_cast<Index>(objects.size()));
     for (std::size_t j = 0; j < objects.size(); ++j) {
+      objects[j].validate_layout("objects[" + std::to_string(j) + "]");
       if (objects[j].words.size() == 0) throw EmptyInput("objects[" + std::to_string(j) + "].words");
       h.col(static_cast<Index>(j)) = histogram_of(objects[j].words, vocabulary, "objects[" + std::to_string(j) + "].words");
     }
     histograms_ = std::move(h);
   }
 
+  /// Throws as fit does, naming "test" (words not one per touch counted
+  /// ids that belong to no touch).
   void distances(const TouchSet& test, Eigen::Ref<Eigen::VectorXd> out) const override {
+    test.validate_layout("test");
     if (test.words.size() == 0) throw EmptyInput("test.words", "the BoW classifier needs the test touches' words");
     check_dimension(out.size(), objects(), "out");
     const WordHistogram h = histogram_of(test.words, histograms_.rows(), "test.words");
