@@ -117,10 +117,10 @@ class Recognizer {
   /// Normalised distances of every classifier (or of those named in `only`,
   /// if not empty) from `test` to every object. If `seconds` is given (one
   /// entry per classifier, in order), each classifier's time is added to it.
-  /// Throws InvalidArgument naming "recognizer" before `fit` or after a failed one, naming "only"
-  /// for a name that is no classifier's, and what `normalize` throws for a
-  /// classifier's NaN, infinite or negative distance, naming "distances of
-  /// 'NAME'" (as DistanceTable::set does).
+  /// Throws InvalidArgument naming "recognizer" before `fit` or after a
+  /// failed one, naming "only" for a name that is no classifier's, and what
+  /// `normalize` throws for a classifier's NaN, infinite or negative
+  /// distance, naming "distances of 'NAME'" (as DistanceTable::set does).
   DistanceTable distances(const TouchSet& test, const std::vector<std::string>& only = {},
                           std::vector<double>* seconds = nullptr) const {
     return table_of(only, seconds,
@@ -198,8 +198,8 @@ class Recognizer {
   /// and after a fit that failed part-way (see fit).
   void check_fitted() const {
     if (fit_failed_)
-      throw InvalidArgument("recognizer", "its last fit failed, leaving classifiers fitted on different training "
-                                          "sets; fit again");
+      throw InvalidArgument("recognizer", "its last fit failed part-way, so its classifiers may hold different "
+                                          "training sets; fit again");
     if (objects() < 1) throw InvalidArgument("recognizer", "is not fitted (no object to recognise); call fit first");
   }
 
