@@ -512,8 +512,9 @@ int run_live(const Options& o, const LiveOptions& live, const Setup& setup, cons
   const std::size_t top = live.top;
   const std::optional<rig::Grid>& grid_override = live.grid_override;
   LiveSource src = make_source(o);  // validates every source option (opens the port, no traffic yet)
+  const std::vector<std::string> needed = needed_classifiers({setup.method});
   {  // Before the references are built and the sensor streams.
-    const std::vector<std::string> oriented = orientation_classifiers(needed_classifiers({setup.method}));
+    const std::vector<std::string> oriented = orientation_classifiers(needed);
     const bool has = src.sensor ? src.poses->has_orientation() : src.source->has_orientation();
     if (!oriented.empty() && !has)
       throw UsageError("--method " + setup.method.name + ": the " + oriented.front() +
@@ -611,7 +612,6 @@ int run_live(const Options& o, const LiveOptions& live, const Setup& setup, cons
   };
 
   std::string how;
-  const std::vector<std::string> needed = needed_classifiers({setup.method});
   const bool check_positions_of_touches = reads_positions(needed);
   try {
     if (src.sensor) src.sensor->start_periodic_frames(src.rate);
