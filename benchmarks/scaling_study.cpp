@@ -16,7 +16,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -31,6 +30,7 @@
 #include "cpu_time.hpp"
 #include "csv_field.hpp"
 #include "held_out.hpp"
+#include "study_output.hpp"
 
 namespace {
 
@@ -71,23 +71,20 @@ struct Measure {
 
 int main(int argc, char** argv) {
   std::vector<std::size_t> sizes = {20, 100, 500};
-  std::string out = "scaling_study";
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--out") && i + 1 < argc) {
-      out = argv[++i];
-    } else if (!std::strcmp(argv[i], "--sizes") && i + 1 < argc) {
+  std::string out;
+  try {  // usage errors exit 2 naming the option, before the study runs
+    const cli::Options opt(cli::Args(argv + 1, argv + argc), {"sizes", "out"});
+    opt.expect_positional(0, 0, "no operand");
+    out = opt.string("out", "scaling_study");
+    if (opt.has("sizes")) {
       sizes.clear();
-      try {
-        for (const std::string& item : cli::Options::split(argv[++i], ','))
-          sizes.push_back(static_cast<std::size_t>(cli::Options::parse_integer(item, "--sizes", 2, 1000000)));
-      } catch (const cli::UsageError& e) {
-        std::fprintf(stderr, "scaling_study: %s (a comma-separated list of object counts)\n", e.what());
-        return 2;
-      }
-    } else {
-      std::fprintf(stderr, "usage: scaling_study [--sizes 20,100,500] [--out DIR]\n");
-      return 2;
+      for (const std::string& item : cli::Options::split(opt.string("sizes"), ','))
+        sizes.push_back(static_cast<std::size_t>(cli::Options::parse_integer(item, "--sizes", 2, 1000000)));
     }
+    bench::check_out_dir(out);
+  } catch (const cli::UsageError& e) {
+    std::fprintf(stderr, "scaling_study: %s\nusage: scaling_study [--sizes 20,100,500] [--out DIR]\n", e.what());
+    return 2;
   }
   using Schedule = PruningSettings::Schedule;
   auto halving = [](int round_iterations, double keep_fraction, Index finalists) {
@@ -175,16 +172,21 @@ int main(int argc, char** argv) {
                   100 * (row[0].rate - row[s].rate), 100 * row[s].same);
     std::fflush(stdout);
   }
-  std::filesystem::create_directories(out);
-  AtomicFileWriter w(out + "/scaling_study.csv");
-  w.stream() << "objects,schedule,ms_per_recognition,ratio_to_first_size_full,registrations_completed,rate,"
-                "same_decision\n";
-  for (std::size_t i = 0; i < sizes.size(); ++i)
-    for (std::size_t s = 0; s < results[i].size(); ++s)
-      w.stream() << sizes[i] << "," << bench::csv_field(schedules[s].first) << "," << results[i][s].ms << ","
-                 << results[i][s].ms / results.front()[0].ms << "," << results[i][s].registrations << ","
-                 << results[i][s].rate << "," << results[i][s].same << "\n";
-  w.commit();
+  try {
+    std::filesystem::create_directories(out);
+    AtomicFileWriter w(out + "/scaling_study.csv");
+    w.stream() << "objects,schedule,ms_per_recognition,ratio_to_first_size_full,registrations_completed,rate,"
+                  "same_decision\n";
+    for (std::size_t i = 0; i < sizes.size(); ++i)
+      for (std::size_t s = 0; s < results[i].size(); ++s)
+        w.stream() << sizes[i] << "," << bench::csv_field(schedules[s].first) << "," << results[i][s].ms << ","
+                   << results[i][s].ms / results.front()[0].ms << "," << results[i][s].registrations << ","
+                   << results[i][s].rate << "," << results[i][s].same << "\n";
+    w.commit();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "scaling_study: %s\n", e.what());
+    return 1;
+  }
   std::printf("wrote %s/scaling_study.csv\n", out.c_str());
   return 0;
 }

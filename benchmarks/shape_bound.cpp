@@ -94,6 +94,7 @@
 #include "iclap/tactile/tactile_sift.hpp"
 #include "cli.hpp"
 #include "csv_field.hpp"
+#include "study_output.hpp"
 #include "touch_counts.hpp"
 
 namespace {
@@ -191,9 +192,7 @@ int run(int argc, char** argv) {
     cv.touches = cli::parse_touches(opt.string("touches", "1,5,10,20"));
     cv.repeats = static_cast<int>(opt.integer("repeats", 10, 1, 100000));
     cv.threads = static_cast<int>(opt.integer("threads", 0, 0, 4096));
-    std::error_code ec;
-    if (std::filesystem::exists(out, ec) && !std::filesystem::is_directory(out, ec))
-      throw cli::UsageError("--out: '" + out + "' exists and is not a directory");
+    bench::check_out_dir(out);
   } catch (const cli::UsageError& e) {
     std::fprintf(stderr, "shape_bound: %s\n%s", e.what(), kUsage);
     return 2;

@@ -19,7 +19,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -36,6 +35,7 @@
 #include "iclap/tactile/tactile_sift.hpp"
 #include "cli.hpp"
 #include "csv_field.hpp"
+#include "study_output.hpp"
 #include "svg_plot.hpp"
 
 namespace {
@@ -239,33 +239,30 @@ struct Row {
   double accuracy() const { return (rate[0] + rate[1] + rate[2]) / 3; }
 };
 
+const char* const kUsage = "usage: trade_study [DATASET.csv] [--out DIR] [--repeats N] [--only GROUP,...]\n";
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string dataset_path, out = "trade_study";
+  std::string dataset_path, out;
   int repeats = 5;
   std::vector<std::string> only;  // groups to run besides the baseline (empty: all)
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i];
-    else if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) {
-      try {
-        repeats = static_cast<int>(cli::Options::parse_integer(argv[++i], "--repeats", 1, 1000));
-      } catch (const cli::UsageError& e) {
-        std::fprintf(stderr, "trade_study: %s\n", e.what());
-        return 2;
-      }
-    } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
-      only = cli::Options::split(argv[++i], ',');
-    } else if (argv[i][0] != '-') dataset_path = argv[i];
-    else {
-      std::fprintf(stderr, "usage: trade_study [DATASET.csv] [--out DIR] [--repeats N] [--only GROUP,...]\n");
-      return 2;
-    }
+  try {  // usage errors exit 2 naming the option, before the study runs
+    const cli::Options opt(cli::Args(argv + 1, argv + argc), {"out", "repeats", "only"});
+    opt.expect_positional(0, 1, "at most one DATASET.csv");
+    if (!opt.positional().empty()) dataset_path = opt.positional()[0];
+    out = opt.string("out", "trade_study");
+    repeats = static_cast<int>(opt.integer("repeats", repeats, 1, 1000));
+    if (opt.has("only")) only = cli::Options::split(opt.string("only"), ',');
+    bench::check_out_dir(out);
+  } catch (const cli::UsageError& e) {
+    std::fprintf(stderr, "trade_study: %s\n%s", e.what(), kUsage);
+    return 2;
   }
   std::vector<Setting> settings = grid();
   for (const auto& g : only)
     if (std::none_of(settings.begin(), settings.end(), [&](const Setting& s) { return s.group == g; })) {
-      std::fprintf(stderr, "trade_study: --only: no group '%s' in the grid\n", g.c_str());
+      std::fprintf(stderr, "trade_study: --only: no group '%s' in the grid\n%s", g.c_str(), kUsage);
       return 2;
     }
   if (!only.empty())  // the baseline stays: times are compared within one run
@@ -360,16 +357,6 @@ int main(int argc, char** argv) {
   describe("balanced", balanced);
   describe("accurate", accurate);
 
-  std::filesystem::create_directories(out);
-  {
-    AtomicFileWriter w(out + "/trade_study.csv");
-    w.stream() << "group,setting,rate5,rate10,rate20,mean_rate,ms_per_recognition,pareto\n";
-    for (std::size_t i = 0; i < rows.size(); ++i)
-      w.stream() << bench::csv_field(rows[i].setting->group) << "," << bench::csv_field(rows[i].setting->name) << ","
-                 << rows[i].rate[0] << "," << rows[i].rate[1] << "," << rows[i].rate[2] << "," << rows[i].accuracy()
-                 << "," << rows[i].ms << "," << (front[i] ? 1 : 0) << "\n";
-    w.commit();
-  }
   cli::Plot p;
   p.title = "iCLAP recognition: accuracy against time per recognition";
   p.x_label = "CPU time per recognition (ms, one test set against all objects, log scale)";
@@ -391,9 +378,27 @@ int main(int argc, char** argv) {
     pf.y.push_back(rows[i].accuracy());
   }
   p.series = {all, pf};
-  AtomicFileWriter svg(out + "/trade_study.svg");
-  svg.stream() << cli::render_svg(p);
-  svg.commit();
+  // The plot is rendered before either file is written: a throw there
+  // leaves no CSV behind without its SVG.
+  const std::string svg_text = cli::render_svg(p);
+  try {
+    std::filesystem::create_directories(out);
+    {
+      AtomicFileWriter w(out + "/trade_study.csv");
+      w.stream() << "group,setting,rate5,rate10,rate20,mean_rate,ms_per_recognition,pareto\n";
+      for (std::size_t i = 0; i < rows.size(); ++i)
+        w.stream() << bench::csv_field(rows[i].setting->group) << "," << bench::csv_field(rows[i].setting->name) << ","
+                   << rows[i].rate[0] << "," << rows[i].rate[1] << "," << rows[i].rate[2] << "," << rows[i].accuracy()
+                   << "," << rows[i].ms << "," << (front[i] ? 1 : 0) << "\n";
+      w.commit();
+    }
+    AtomicFileWriter svg(out + "/trade_study.svg");
+    svg.stream() << svg_text;
+    svg.commit();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "trade_study: %s\n", e.what());
+    return 1;
+  }
   std::printf("\nwrote %s/trade_study.csv and %s/trade_study.svg\n", out.c_str(), out.c_str());
   return 0;
 }
