@@ -1,0 +1,218 @@
+// SPDX-License-Identifier: MIT
+// Reproducers from the session-57 audit (helper h57c) of the outputs of
+// `iclap evaluate` and the benchmark helpers: the SVG charts
+// (examples/iclap/svg_plot.hpp) and the --touches list
+// (examples/iclap/touch_counts.hpp). Each case fails on the code it was
+// written against and is skipped so that the suite stays green; remove the
+// skip with the fix.
+//
+// Build by hand (tests/examples/CMakeLists.txt would add it like
+// test_svg_plot, with examples/iclap on the include path):
+//   g++ -std=gnu++17 -Iinclude -Itests -Iexamples/iclap -isystem /usr/include/eigen3
+//       tests/examples/test_outputs_audit.cpp tests/main.cpp
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <regex>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "svg_plot.hpp"
+#include "touch_counts.hpp"
+
+namespace {
+
+using iclap::cli::Plot;
+using iclap::cli::PlotSeries;
+using iclap::cli::render_svg;
+
+// The y-axis tick labels of a rendered chart, top to bottom as written
+// (render_svg writes them bottom to top: "<text x=... text-anchor="end">L</text>").
+std::vector<std::string> y_tick_labels(const std::string& svg) {
+  std::vector<std::string> out;
+  const std::regex re("<text x=\"[^\"]*\" y=\"[^\"]*\" text-anchor=\"end\">([^<]*)</text>");
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), re); it != std::sregex_iterator(); ++it)
+    out.push_back((*it)[1]);
+  return out;
+}
+
+// The x-axis tick labels: the numeric "text-anchor="middle"" texts (the
+// title and the axis label are not numbers).
+std::vector<std::string> x_tick_labels(const std::string& svg) {
+  std::vector<std::string> out;
+  const std::regex re("<text x=\"[^\"]*\" y=\"[^\"]*\" text-anchor=\"middle\">([-+0-9.e]+)</text>");
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), re); it != std::sregex_iterator(); ++it)
+    out.push_back((*it)[1]);
+  return out;
+}
+
+// The trade study's chart (benchmarks/trade_study.cpp): accuracy against
+// time, log x, y fitted to the data, y labels as percentages.
+Plot trade_study_plot(const std::vector<double>& ms, const std::vector<double>& rate) {
+  Plot p;
+  p.title = "iCLAP recognition: accuracy against time per recognition";
+  p.x_log = true;
+  p.y_auto = true;
+  PlotSeries all;
+  all.name = "settings";
+  all.markers_only = true;
+  all.x = ms;
+  all.y = rate;
+  p.series = {all};
+  return p;
+}
+
+}  // namespace
+
+// Input: `iclap evaluate --touches 5,1,3` (any list not in increasing
+// order, e.g. "20,1..5" or "10,1").
+// Now: parse_touches returns {5, 1, 3} and the run keeps that order
+// everywhere: every line of fig_single.svg, fig_all_methods.svg, ... and of
+// the two-term fig_weights_*.svg is drawn 5 -> 1 -> 3 (checked with the
+// release binary: points="560.0,308.3 70.0,308.3 315.0,270.0 ", a zigzag
+// that goes back across the chart, not rate against touches), and the
+// three-term weight figure, documented (cmd_evaluate.cpp:267-268) as "the rate at the largest number
+// of touches", is drawn at the last count listed ("iclap+icp+bow: rate at 3
+// touches" where 5 was asked for).
+// Should: the counts reach the outputs in increasing order (or a list out
+// of order is refused naming --touches).
+// Cause: examples/iclap/touch_counts.hpp:19-36 (the counts are returned in
+// the order given), relied on by examples/iclap/cmd_evaluate.cpp:221-230
+// (series_of takes r.touches in that order; also the two-term sweeps at
+// 280-284) and cmd_evaluate.cpp:289 (touches.size() - 1 taken as the
+// largest count).
+TEST_CASE("--touches out of order: the figures need the counts in increasing order" * doctest::skip()) {
+  std::vector<int> t;
+  bool refused = false;
+  try {
+    t = iclap::cli::parse_touches("5,1,3");
+  } catch (const iclap::cli::UsageError& e) {
+    refused = std::string(e.what()).find("--touches") != std::string::npos;
+  }
+  if (!refused) {
+    CHECK(t == std::vector<int>{1, 3, 5});
+    CHECK(std::is_sorted(t.begin(), t.end()));
+  }
+}
+
+// Input: a chart with y_auto and y_percent (the trade study's
+// trade_study.svg) whose rates span 0.55..0.65, or 0.60..0.61.
+// Now: the ticks fall at 2.5% (or 0.25%) steps but are labelled with
+// "%.0f%%": "55% 58% 60% 63% 65%" (57.5% shown as 58%, 62.5% as 63%:
+// uneven steps on evenly spaced lines), and "60% 60% 60% 61% 61%" (one
+// label repeated on different grid lines).
+// Should: each label reads as its tick's value: evenly spaced, none repeated
+// (e.g. "57.5%", "60.25%").
+// Cause: examples/iclap/svg_plot.hpp:196 (fmt("%.0f%%", 100 * t) whatever
+// the step nice_ticks chose at svg_plot.hpp:63-73).
+TEST_CASE("render_svg: percentage tick labels keep the tick's value" * doctest::skip()) {
+  for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{{0.55, 0.65}, {0.60, 0.61}}) {
+    CAPTURE(lo);
+    CAPTURE(hi);
+    const std::vector<std::string> labels = y_tick_labels(render_svg(trade_study_plot({0.03, 6}, {lo, hi})));
+    REQUIRE(labels.size() >= 3);
+    std::vector<double> v;
+    for (const auto& l : labels) {
+      REQUIRE(!l.empty());
+      REQUIRE(l.back() == '%');
+      v.push_back(std::strtod(l.c_str(), nullptr));
+    }
+    CAPTURE(labels);
+    CHECK(std::set<std::string>(labels.begin(), labels.end()).size() == labels.size());
+    for (std::size_t i = 2; i < v.size(); ++i) CHECK(v[i] - v[i - 1] == doctest::Approx(v[1] - v[0]));
+  }
+}
+
+// Input: a y_auto chart whose points all have the same rate, e.g. a
+// trade_study run in which every setting reaches 100% (an easy dataset), or
+// all 60%.
+// Now: the y range is padded by 5% of max(span, 1e-9), i.e. 5e-11, so the
+// axis spans 1e-10 and its five ticks are all labelled "100%" (or "60%").
+// Should: a readable axis around the value (distinct tick labels), e.g. a
+// pad of a few percent of the value or a fixed minimum span.
+// Cause: examples/iclap/svg_plot.hpp:177 (pad = 0.05 * max(y1 - y0, 1e-9)).
+TEST_CASE("render_svg: y_auto with every value equal still gives distinct tick labels" * doctest::skip()) {
+  for (const double rate : {1.0, 0.6}) {
+    CAPTURE(rate);
+    const std::vector<std::string> labels = y_tick_labels(render_svg(trade_study_plot({0.03, 1, 6}, {rate, rate, rate})));
+    CAPTURE(labels);
+    REQUIRE(labels.size() >= 2);
+    CHECK(std::set<std::string>(labels.begin(), labels.end()).size() == labels.size());
+  }
+}
+
+// Input: an x_log chart whose x values lie within one decade, e.g. the
+// trade study with every setting between 1.5 ms and 6 ms (or 12..80 ms).
+// Now: no x tick and no x label at all (only powers of ten inside the data
+// range are ticks, and there is none between 10^0.18 and 10^0.78); a single
+// x value (range [log x, log x + 1]) gets one tick.
+// Should: at least two labelled ticks on the log axis (e.g. 1-2-5 or
+// 2..9 x 10^k ticks, or the decades around the data).
+// Cause: examples/iclap/svg_plot.hpp:199-201 (ticks only at 10^e for whole
+// e within [x0, x1]).
+TEST_CASE("render_svg: a log x axis within one decade still has tick labels" * doctest::skip()) {
+  for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{{1.5, 6.0}, {12.0, 80.0}}) {
+    CAPTURE(lo);
+    CAPTURE(hi);
+    const std::vector<std::string> labels = x_tick_labels(render_svg(trade_study_plot({lo, hi}, {0.5, 0.6})));
+    CAPTURE(labels);
+    CHECK(labels.size() >= 2);
+  }
+}
+
+// Input: a chart with more than 12 line series, e.g. fig_all_methods.svg of
+// `iclap evaluate --methods all` (19 methods: the 11 of the paper, iclapn,
+// patch, iclap_patch, iclap_patch+patch+bow, iclap_patch*patch*bow, height,
+// height_contact, occupancy).
+// Now: colours cycle through 12 entries and nothing else changes, so series
+// k and k + 12 are identical solid lines of one colour (bow and patch,
+// icp and iclap_patch, ... seven pairs), and their legend entries too: the
+// chart cannot tell them apart.
+// Should: every series distinguishable (e.g. dashed or another dash pattern
+// once the colours repeat, or more colours).
+// Cause: examples/iclap/svg_plot.hpp:223 (colors[k % 12]) with the dash
+// pattern taken only from ser.dashed (svg_plot.hpp:228, 246).
+TEST_CASE("render_svg: more than 12 series are still distinguishable" * doctest::skip()) {
+  Plot p;
+  p.x_integer = true;
+  for (int k = 0; k < 19; ++k) {
+    PlotSeries s;
+    s.name = "method" + std::to_string(k);
+    s.x = {1, 2, 3};
+    s.y = {0.1 + 0.02 * k, 0.2 + 0.02 * k, 0.3 + 0.02 * k};
+    p.series.push_back(s);
+  }
+  const std::string svg = render_svg(p);
+  // The style of each line: everything but its points.
+  std::vector<std::string> styles;
+  const std::regex re("<polyline ([^>]*) points=\"[^\"]*\"/>");
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), re); it != std::sregex_iterator(); ++it)
+    styles.push_back((*it)[1]);
+  REQUIRE(styles.size() == 19);
+  for (std::size_t i = 0; i < styles.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j) {
+      CAPTURE(i);
+      CAPTURE(j);
+      CAPTURE(styles[i]);
+      CHECK(styles[i] != styles[j]);
+    }
+}
+
+// Input: a y_auto percentage chart whose lowest rate is 0 (or within a
+// tick step above 0), e.g. trade_study rates {0, 0.8}.
+// Now: the lowest tick is labelled "-0%" (nice_ticks starts at
+// ceil(-0.05 / 0.25) * 0.25 = -0.0, printed with its sign).
+// Should: "0%".
+// Cause: examples/iclap/svg_plot.hpp:75 (the first tick may be -0.0; also
+// a "%g" label "-0" on the x axis).
+TEST_CASE("render_svg: the zero tick is not labelled -0%" * doctest::skip()) {
+  const std::vector<std::string> labels = y_tick_labels(render_svg(trade_study_plot({0.03, 6}, {0.0, 0.8})));
+  CAPTURE(labels);
+  REQUIRE(!labels.empty());
+  for (const auto& l : labels) CHECK(l.rfind("-0", 0) != 0);
+}
