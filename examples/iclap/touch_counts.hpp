@@ -15,7 +15,10 @@ namespace iclap::cli {
 
 /// "1,5,10,20" or "1..20" (ranges and single counts may be mixed), each
 /// count in [1, 100000]; UsageError naming --touches for a bad number, an
-/// empty range or a count listed twice.
+/// empty range or a count listed twice. The counts are returned in
+/// increasing order whatever the order given: the tables, the CSV files and
+/// the figures (lines drawn from count to count, the three-term weight
+/// figure at the largest count) take them in that order.
 inline std::vector<int> parse_touches(const std::string& text) {
   std::vector<int> out;
   for (const auto& part : Options::split(text, ',')) {
@@ -32,7 +35,7 @@ inline std::vector<int> parse_touches(const std::string& text) {
   std::set<int> seen;
   for (int t : out)
     if (!seen.insert(t).second) throw UsageError("--touches: " + std::to_string(t) + " is listed twice");
-  return out;
+  return std::vector<int>(seen.begin(), seen.end());
 }
 
 }  // namespace iclap::cli

@@ -214,11 +214,12 @@ TEST_CASE("options: a list of numbers keeps every item; an empty item is refused
   CHECK(Options::split("a,,b", ',') == std::vector<std::string>{"a", "", "b"});
 }
 
-TEST_CASE("--touches: counts and ranges, each count once, in [1, 100000]") {
+TEST_CASE("--touches: counts and ranges, each count once, in [1, 100000], in increasing order") {
   CHECK(iclap::cli::parse_touches("1..3") == std::vector<int>{1, 2, 3});
   CHECK(iclap::cli::parse_touches("3..3") == std::vector<int>{3});
   CHECK(iclap::cli::parse_touches("1,5,10..12") == std::vector<int>{1, 5, 10, 11, 12});
   CHECK(iclap::cli::parse_touches("100000") == std::vector<int>{100000});
+  CHECK(iclap::cli::parse_touches("20,1..3,10") == std::vector<int>{1, 2, 3, 10, 20});
   CHECK(touches_error("5..2") == "--touches: empty range '5..2'");
   CHECK(touches_error("1..3,2") == "--touches: 2 is listed twice");
   CHECK(touches_error("0..3") == "--touches: 0 is outside [1, 100000]");

@@ -69,24 +69,12 @@ Plot trade_study_plot(const std::vector<double>& ms, const std::vector<double>& 
 
 }  // namespace
 
-// Input: `iclap evaluate --touches 5,1,3` (any list not in increasing
-// order, e.g. "20,1..5" or "10,1").
-// Now: parse_touches returns {5, 1, 3} and the run keeps that order
-// everywhere: every line of fig_single.svg, fig_all_methods.svg, ... and of
-// the two-term fig_weights_*.svg is drawn 5 -> 1 -> 3 (checked with the
-// release binary: points="560.0,308.3 70.0,308.3 315.0,270.0 ", a zigzag
-// that goes back across the chart, not rate against touches), and the
-// three-term weight figure, documented (cmd_evaluate.cpp:267-268) as "the rate at the largest number
-// of touches", is drawn at the last count listed ("iclap+icp+bow: rate at 3
-// touches" where 5 was asked for).
-// Should: the counts reach the outputs in increasing order (or a list out
-// of order is refused naming --touches).
-// Cause: examples/iclap/touch_counts.hpp:19-36 (the counts are returned in
-// the order given), relied on by examples/iclap/cmd_evaluate.cpp:221-230
-// (series_of takes r.touches in that order; also the two-term sweeps at
-// 280-284) and cmd_evaluate.cpp:289 (touches.size() - 1 taken as the
-// largest count).
-TEST_CASE("--touches out of order: the figures need the counts in increasing order" * doctest::skip()) {
+// Input: `iclap evaluate --touches 5,1,3`.
+// Was: the counts kept that order, so every line of the fig_*.svg charts
+// zigzagged 5 -> 1 -> 3 and the three-term weight figure (meant at the
+// largest count) was drawn at 3 touches.
+// Now: parse_touches returns the counts in increasing order.
+TEST_CASE("--touches out of order: the figures need the counts in increasing order") {
   std::vector<int> t;
   bool refused = false;
   try {
