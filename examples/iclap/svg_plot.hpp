@@ -56,7 +56,9 @@ inline std::string fmt(const char* f, double v) {
 }
 
 /// About `target` ticks over [lo, hi] at 1, 2, 2.5 or 5 times a power of
-/// ten; with `integer`, whole-number steps only (at least 1).
+/// ten; with `integer`, whole-number steps only (at least 1). Each tick is a
+/// whole multiple of the step (not a running sum, which drifts), and the
+/// zero tick is +0 (ceil of a small negative ratio gives -0, printed "-0").
 inline std::vector<double> nice_ticks(double lo, double hi, int target, bool integer = false) {
   const double span = hi - lo;
   if (!(span > 0)) return {lo};
@@ -72,7 +74,11 @@ inline std::vector<double> nice_ticks(double lo, double hi, int target, bool int
     }
   }
   std::vector<double> t;
-  for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * span; v += step) t.push_back(v);
+  for (double k = std::ceil(lo / step);; k += 1) {
+    const double v = k * step;
+    if (v > hi + 1e-9 * span) break;
+    t.push_back(k == 0 ? 0.0 : v);
+  }
   return t;
 }
 

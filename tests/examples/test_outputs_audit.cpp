@@ -191,14 +191,10 @@ TEST_CASE("render_svg: more than 12 series are still distinguishable" * doctest:
     }
 }
 
-// Input: a y_auto percentage chart whose lowest rate is 0 (or within a
-// tick step above 0), e.g. trade_study rates {0, 0.8}.
-// Now: the lowest tick is labelled "-0%" (nice_ticks starts at
-// ceil(-0.05 / 0.25) * 0.25 = -0.0, printed with its sign).
-// Should: "0%".
-// Cause: examples/iclap/svg_plot.hpp:75 (the first tick may be -0.0; also
-// a "%g" label "-0" on the x axis).
-TEST_CASE("render_svg: the zero tick is not labelled -0%" * doctest::skip()) {
+// Input: a y_auto percentage chart with rates {0, 0.8}.
+// Was: the lowest tick read "-0%" (ceil(-0.05 / 0.25) * 0.25 is -0.0).
+// Now: "0%"; nice_ticks returns +0 for the zero tick.
+TEST_CASE("render_svg: the zero tick is not labelled -0%") {
   const std::vector<std::string> labels = y_tick_labels(render_svg(trade_study_plot({0.03, 6}, {0.0, 0.8})));
   CAPTURE(labels);
   REQUIRE(!labels.empty());
