@@ -82,6 +82,15 @@ inline std::vector<double> nice_ticks(double lo, double hi, int target, bool int
   return t;
 }
 
+/// The fewest decimals (at most 9) that write every multiple of `step`
+/// exactly: 0 for a step of 5, 1 for 2.5, 2 for 0.25.
+inline int step_decimals(double step) {
+  int d = 0;
+  for (double scaled = std::abs(step); d < 9; ++d, scaled *= 10)
+    if (std::abs(scaled - std::round(scaled)) <= 1e-6 * std::max(1.0, scaled)) break;
+  return d;
+}
+
 /// Box of a placed point label (SVG user units; y grows downwards) and the
 /// text's anchor point and side.
 struct LabelBox {
@@ -195,11 +204,19 @@ inline std::string render_svg(const Plot& p) {
   s += "<text x=\"" + fmt("%.1f", left + pw / 2) + "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" +
        escape_xml(p.title) + "</text>\n";
   // Grid and ticks.
-  for (double t : detail::nice_ticks(y0, y1, 5)) {
+  const std::vector<double> yt = detail::nice_ticks(y0, y1, 5);
+  // Percentages with as many decimals as the step needs (57.5%, 60.25%).
+  const int y_decimals = yt.size() > 1 ? detail::step_decimals(100 * (yt[1] - yt[0])) : 0;
+  auto percent = [&](double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f%%", y_decimals, 100 * v);
+    return std::string(buf);
+  };
+  for (double t : yt) {
     s += "<line x1=\"" + fmt("%.1f", left) + "\" x2=\"" + fmt("%.1f", left + pw) + "\" y1=\"" + fmt("%.1f", Y(t)) +
          "\" y2=\"" + fmt("%.1f", Y(t)) + "\" stroke=\"#ddd\"/>\n";
     s += "<text x=\"" + fmt("%.1f", left - 6) + "\" y=\"" + fmt("%.1f", Y(t) + 4) + "\" text-anchor=\"end\">" +
-         (p.y_percent ? fmt("%.0f%%", 100 * t) : fmt("%g", t)) + "</text>\n";
+         (p.y_percent ? percent(t) : fmt("%g", t)) + "</text>\n";
   }
   std::vector<double> xt;
   if (p.x_log) {

@@ -88,17 +88,13 @@ TEST_CASE("--touches out of order: the figures need the counts in increasing ord
   }
 }
 
-// Input: a chart with y_auto and y_percent (the trade study's
-// trade_study.svg) whose rates span 0.55..0.65, or 0.60..0.61.
-// Now: the ticks fall at 2.5% (or 0.25%) steps but are labelled with
-// "%.0f%%": "55% 58% 60% 63% 65%" (57.5% shown as 58%, 62.5% as 63%:
-// uneven steps on evenly spaced lines), and "60% 60% 60% 61% 61%" (one
-// label repeated on different grid lines).
-// Should: each label reads as its tick's value: evenly spaced, none repeated
-// (e.g. "57.5%", "60.25%").
-// Cause: examples/iclap/svg_plot.hpp:196 (fmt("%.0f%%", 100 * t) whatever
-// the step nice_ticks chose at svg_plot.hpp:63-73).
-TEST_CASE("render_svg: percentage tick labels keep the tick's value" * doctest::skip()) {
+// Input: a y_auto percentage chart (trade_study.svg) with rates 0.55..0.65,
+// or 0.60..0.61.
+// Was: ticks at 2.5% (0.25%) steps labelled "%.0f%%": "55% 58% 60% 63% 65%",
+// "60% 60% 60% 61% 61%".
+// Now: as many decimals as the step needs: "55.0% 57.5% ...", "60.00%
+// 60.25% ...".
+TEST_CASE("render_svg: percentage tick labels keep the tick's value") {
   for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{{0.55, 0.65}, {0.60, 0.61}}) {
     CAPTURE(lo);
     CAPTURE(hi);
