@@ -189,7 +189,21 @@ inline std::string render_svg(const Plot& p) {
   if (x1 <= x0) x1 = x0 + 1;
   if (p.y_auto) {
     if (!std::isfinite(y0)) y0 = 0, y1 = 1;
-    const double pad = 0.05 * std::max(y1 - y0, 1e-9);
+    // At least 4 points of a rate axis (kept within [0, 1] when the data
+    // are) or 4% of the values, so that equal values (every setting at 100%)
+    // still get distinct ticks around them.
+    double min_span = p.y_percent ? 0.04 : 0.04 * std::max(std::abs(y0), std::abs(y1));
+    if (!(min_span > 0)) min_span = 1;
+    if (y1 - y0 < min_span) {
+      const double mid = 0.5 * (y0 + y1);
+      y0 = mid - 0.5 * min_span;
+      y1 = mid + 0.5 * min_span;
+      if (p.y_percent && mid >= 0 && mid <= 1) {
+        if (y0 < 0) y0 = 0, y1 = min_span;
+        if (y1 > 1) y0 = 1 - min_span, y1 = 1;
+      }
+    }
+    const double pad = 0.05 * (y1 - y0);
     y0 -= pad;
     y1 += pad;
   }

@@ -92,8 +92,9 @@ TEST_CASE("--touches out of order: the figures need the counts in increasing ord
 // or 0.60..0.61.
 // Was: ticks at 2.5% (0.25%) steps labelled "%.0f%%": "55% 58% 60% 63% 65%",
 // "60% 60% 60% 61% 61%".
-// Now: as many decimals as the step needs: "55.0% 57.5% ...", "60.00%
-// 60.25% ...".
+// Now: as many decimals as the step needs: "55.0% 57.5% ..."; a fixed
+// range 0.60..0.61 reads "60.00% 60.25% ..." (fitted, that range is now
+// widened to 4 points: "59% 60% 61% 62%").
 TEST_CASE("render_svg: percentage tick labels keep the tick's value") {
   for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{{0.55, 0.65}, {0.60, 0.61}}) {
     CAPTURE(lo);
@@ -110,17 +111,18 @@ TEST_CASE("render_svg: percentage tick labels keep the tick's value") {
     CHECK(std::set<std::string>(labels.begin(), labels.end()).size() == labels.size());
     for (std::size_t i = 2; i < v.size(); ++i) CHECK(v[i] - v[i - 1] == doctest::Approx(v[1] - v[0]));
   }
+  Plot fixed = trade_study_plot({0.03, 6}, {0.60, 0.61});
+  fixed.y_auto = false;
+  fixed.y_min = 0.60;
+  fixed.y_max = 0.61;
+  CHECK(y_tick_labels(render_svg(fixed)) == std::vector<std::string>{"60.00%", "60.25%", "60.50%", "60.75%", "61.00%"});
 }
 
-// Input: a y_auto chart whose points all have the same rate, e.g. a
-// trade_study run in which every setting reaches 100% (an easy dataset), or
-// all 60%.
-// Now: the y range is padded by 5% of max(span, 1e-9), i.e. 5e-11, so the
-// axis spans 1e-10 and its five ticks are all labelled "100%" (or "60%").
-// Should: a readable axis around the value (distinct tick labels), e.g. a
-// pad of a few percent of the value or a fixed minimum span.
-// Cause: examples/iclap/svg_plot.hpp:177 (pad = 0.05 * max(y1 - y0, 1e-9)).
-TEST_CASE("render_svg: y_auto with every value equal still gives distinct tick labels" * doctest::skip()) {
+// Input: a y_auto percentage chart whose points all have one rate (every
+// setting of a trade study at 100%, or at 60%).
+// Was: the axis spanned 1e-10 and its five ticks all read "100%" ("60%").
+// Now: the fitted range spans at least 4 points (96%..100%, 58%..62%).
+TEST_CASE("render_svg: y_auto with every value equal still gives distinct tick labels") {
   for (const double rate : {1.0, 0.6}) {
     CAPTURE(rate);
     const std::vector<std::string> labels = y_tick_labels(render_svg(trade_study_plot({0.03, 1, 6}, {rate, rate, rate})));
