@@ -91,6 +91,32 @@ inline int step_decimals(double step) {
   return d;
 }
 
+/// Ticks of a log axis over [10^lo, 10^hi]: the powers of ten; where fewer
+/// than two of them fall inside, 1, 2 and 5 times them; then 1, 2, ..., 9
+/// times them; and where still fewer than two fall inside (the data within
+/// 1.5..1.6), the axis widens to the two such ticks around it.
+inline std::vector<double> log_ticks(double& lo, double& hi) {
+  const std::vector<std::vector<double>> mantissas = {{1}, {1, 2, 5}, {1, 2, 3, 4, 5, 6, 7, 8, 9}};
+  std::vector<double> t;
+  for (const auto& ms : mantissas) {
+    t.clear();
+    for (double e = std::floor(lo); e <= std::ceil(hi); e += 1)
+      for (double m : ms) {
+        const double l = e + std::log10(m);
+        if (l >= lo - 1e-9 && l <= hi + 1e-9) t.push_back(m * std::pow(10.0, e));
+      }
+    if (t.size() >= 2) return t;
+  }
+  // m * 10^e at or below 10^lo, and the next such tick at or above 10^hi.
+  const double e0 = std::floor(lo), e1 = std::floor(hi);
+  const double below = std::max(1.0, std::floor(std::pow(10.0, lo - e0) * (1 + 1e-9))) * std::pow(10.0, e0);
+  double above = std::ceil(std::pow(10.0, hi - e1) * (1 - 1e-9)) * std::pow(10.0, e1);
+  if (above <= below * (1 + 1e-9)) above = below + std::pow(10.0, e1);
+  lo = std::log10(below);
+  hi = std::log10(above);
+  return {below, above};
+}
+
 /// Box of a placed point label (SVG user units; y grows downwards) and the
 /// text's anchor point and side.
 struct LabelBox {
@@ -207,6 +233,8 @@ inline std::string render_svg(const Plot& p) {
     y0 -= pad;
     y1 += pad;
   }
+  // A log axis within one decade may widen to the ticks around its data.
+  const std::vector<double> xt = p.x_log ? detail::log_ticks(x0, x1) : detail::nice_ticks(x0, x1, 8, p.x_integer);
   auto X = [&](double v) { return left + ((p.x_log ? std::log10(v) : v) - x0) / (x1 - x0) * pw; };
   auto Y = [&](double v) { return top + (1 - (v - y0) / (y1 - y0)) * ph; };
   static const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b",
@@ -231,13 +259,6 @@ inline std::string render_svg(const Plot& p) {
          "\" y2=\"" + fmt("%.1f", Y(t)) + "\" stroke=\"#ddd\"/>\n";
     s += "<text x=\"" + fmt("%.1f", left - 6) + "\" y=\"" + fmt("%.1f", Y(t) + 4) + "\" text-anchor=\"end\">" +
          (p.y_percent ? percent(t) : fmt("%g", t)) + "</text>\n";
-  }
-  std::vector<double> xt;
-  if (p.x_log) {
-    for (double e = std::floor(x0); e <= std::ceil(x1); e += 1)
-      if (e >= x0 - 1e-9 && e <= x1 + 1e-9) xt.push_back(std::pow(10.0, e));
-  } else {
-    xt = detail::nice_ticks(x0, x1, 8, p.x_integer);
   }
   for (double t : xt) {
     s += "<line x1=\"" + fmt("%.1f", X(t)) + "\" x2=\"" + fmt("%.1f", X(t)) + "\" y1=\"" + fmt("%.1f", top) +
