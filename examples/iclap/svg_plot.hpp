@@ -239,6 +239,15 @@ inline std::string render_svg(const Plot& p) {
   auto Y = [&](double v) { return top + (1 - (v - y0) / (y1 - y0)) * ph; };
   static const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b",
                                  "#e377c2", "#7f7f7f", "#bcbd22", "#17becf", "#393b79", "#637939"};
+  const std::size_t n_colors = sizeof colors / sizeof *colors;
+  // Line patterns, {plain, dashed}, one pair per round of the colours, so
+  // that series k and k + 12 differ (fig_all_methods.svg has 19 methods);
+  // they repeat after 36 series.
+  static const char* dashes[][2] = {{"", "6,4"}, {"2,3", "8,3,2,3"}, {"12,4", "12,3,2,3,2,3"}};
+  auto dash_of = [&](std::size_t k, bool dashed) -> std::string {
+    const char* d = dashes[(k / n_colors) % (sizeof dashes / sizeof *dashes)][dashed ? 1 : 0];
+    return *d ? std::string(" stroke-dasharray=\"") + d + "\"" : std::string();
+  };
   std::string s;
   s += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt("%.0f", W) + "\" height=\"" + fmt("%.0f", H) +
        "\" font-family=\"sans-serif\" font-size=\"12\">\n";
@@ -278,12 +287,12 @@ inline std::string render_svg(const Plot& p) {
   std::vector<std::string> labels;
   for (std::size_t k = 0; k < p.series.size(); ++k) {
     const auto& ser = p.series[k];
-    const std::string c = colors[k % (sizeof colors / sizeof *colors)];
+    const std::string c = colors[k % n_colors], dash = dash_of(k, ser.dashed);
     if (!ser.markers_only && ser.x.size() > 1) {
       std::string pts;
       for (std::size_t i = 0; i < ser.x.size(); ++i) pts += fmt("%.1f", X(ser.x[i])) + "," + fmt("%.1f", Y(ser.y[i])) + " ";
       s += "<polyline fill=\"none\" stroke=\"" + c + "\" stroke-width=\"" + (ser.highlight ? "3" : "1.8") + "\"" +
-           (ser.dashed ? " stroke-dasharray=\"6,4\"" : "") + " points=\"" + pts + "\"/>\n";
+           dash + " points=\"" + pts + "\"/>\n";
     }
     for (std::size_t i = 0; i < ser.x.size(); ++i) {
       s += "<circle cx=\"" + fmt("%.1f", X(ser.x[i])) + "\" cy=\"" + fmt("%.1f", Y(ser.y[i])) + "\" r=\"" +
@@ -300,8 +309,8 @@ inline std::string render_svg(const Plot& p) {
            "\"/>\n";
     else
       s += "<line x1=\"" + fmt("%.1f", left + pw + 12) + "\" x2=\"" + fmt("%.1f", left + pw + 36) + "\" y1=\"" +
-           fmt("%.1f", ly) + "\" y2=\"" + fmt("%.1f", ly) + "\" stroke=\"" + c + "\" stroke-width=\"2.5\"" +
-           (ser.dashed ? " stroke-dasharray=\"6,4\"" : "") + "/>\n";
+           fmt("%.1f", ly) + "\" y2=\"" + fmt("%.1f", ly) + "\" stroke=\"" + c + "\" stroke-width=\"2.5\"" + dash +
+           "/>\n";
     s += "<text x=\"" + fmt("%.1f", left + pw + 42) + "\" y=\"" + fmt("%.1f", ly + 4) + "\">" + escape_xml(ser.name) +
          "</text>\n";
   }

@@ -125,7 +125,8 @@ TEST_CASE("render_svg: percentage tick labels keep the tick's value") {
 TEST_CASE("render_svg: y_auto with every value equal still gives distinct tick labels") {
   for (const double rate : {1.0, 0.6}) {
     CAPTURE(rate);
-    const std::vector<std::string> labels = y_tick_labels(render_svg(trade_study_plot({0.03, 1, 6}, {rate, rate, rate})));
+    const std::vector<std::string> labels =
+        y_tick_labels(render_svg(trade_study_plot({0.03, 1, 6}, {rate, rate, rate})));
     CAPTURE(labels);
     REQUIRE(labels.size() >= 2);
     CHECK(std::set<std::string>(labels.begin(), labels.end()).size() == labels.size());
@@ -149,19 +150,12 @@ TEST_CASE("render_svg: a log x axis within one decade still has tick labels") {
   CHECK(x_tick_labels(render_svg(trade_study_plot({12, 18}, {0.5, 0.6}))) == std::vector<std::string>{"10", "20"});
 }
 
-// Input: a chart with more than 12 line series, e.g. fig_all_methods.svg of
-// `iclap evaluate --methods all` (19 methods: the 11 of the paper, iclapn,
-// patch, iclap_patch, iclap_patch+patch+bow, iclap_patch*patch*bow, height,
-// height_contact, occupancy).
-// Now: colours cycle through 12 entries and nothing else changes, so series
-// k and k + 12 are identical solid lines of one colour (bow and patch,
-// icp and iclap_patch, ... seven pairs), and their legend entries too: the
-// chart cannot tell them apart.
-// Should: every series distinguishable (e.g. dashed or another dash pattern
-// once the colours repeat, or more colours).
-// Cause: examples/iclap/svg_plot.hpp:223 (colors[k % 12]) with the dash
-// pattern taken only from ser.dashed (svg_plot.hpp:228, 246).
-TEST_CASE("render_svg: more than 12 series are still distinguishable" * doctest::skip()) {
+// Input: a chart of 19 line series (fig_all_methods.svg of `iclap evaluate
+// --methods all`).
+// Was: colours cycled through 12 entries and nothing else changed, so
+// series k and k + 12 were identical lines, in the legend too.
+// Now: each round of the colours has its own dash pattern.
+TEST_CASE("render_svg: more than 12 series are still distinguishable") {
   Plot p;
   p.x_integer = true;
   for (int k = 0; k < 19; ++k) {
@@ -185,6 +179,14 @@ TEST_CASE("render_svg: more than 12 series are still distinguishable" * doctest:
       CAPTURE(styles[i]);
       CHECK(styles[i] != styles[j]);
     }
+  // The legend's lines likewise.
+  std::vector<std::string> legend;
+  const std::regex legend_re(
+      "<line x1=\"[^\"]*\" x2=\"[^\"]*\" y1=\"[^\"]*\" y2=\"[^\"]*\" (stroke=\"#[^\"]*\" stroke-width=\"2.5\"[^/]*)/>");
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), legend_re); it != std::sregex_iterator(); ++it)
+    legend.push_back((*it)[1]);
+  REQUIRE(legend.size() == 19);
+  CHECK(std::set<std::string>(legend.begin(), legend.end()).size() == 19);
 }
 
 // Input: a y_auto percentage chart with rates {0, 0.8}.
