@@ -2,14 +2,7 @@
 // Reproducers from the session-57 audit (helper h57c) of the outputs of
 // `iclap evaluate` and the benchmark helpers: the SVG charts
 // (examples/iclap/svg_plot.hpp) and the --touches list
-// (examples/iclap/touch_counts.hpp). Each case fails on the code it was
-// written against and is skipped so that the suite stays green; remove the
-// skip with the fix.
-//
-// Build by hand (tests/examples/CMakeLists.txt would add it like
-// test_svg_plot, with examples/iclap on the include path):
-//   g++ -std=gnu++17 -Iinclude -Itests -Iexamples/iclap -isystem /usr/include/eigen3
-//       tests/examples/test_outputs_audit.cpp tests/main.cpp
+// (examples/iclap/touch_counts.hpp). Each case failed before its fix.
 
 #include <doctest/doctest.h>
 
