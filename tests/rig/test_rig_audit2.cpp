@@ -1,0 +1,221 @@
+// SPDX-License-Identifier: MIT
+// Reproducers from helper h57b's audit (session 57) of the rig code not
+// audited before: serial enumeration, SerialPort, pose specs and sources,
+// frame sources, `iclap devices` and `iclap record`. Each case FAILS on the
+// code it was written against and is marked skip so the suite stays green;
+// the comment above it says what happens now, what should happen and where
+// the cause is.
+//
+// Build: like test_rig_devices (include tests/rig, link util). The `iclap
+// record` cases need ICLAP_CLI_PATH, like test_record_cli, and are left out
+// without it.
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "iclap/core/error.hpp"
+#include "iclap/data/csv_reader.hpp"
+#include "iclap/data/csv_writer.hpp"
+#include "iclap/rig/pose_spec.hpp"
+#include "iclap/rig/serial_enumeration.hpp"
+#include "../support/temporaries.hpp"
+#ifdef ICLAP_CLI_PATH
+#include "fake_wts_sensor.hpp"
+#include "process_util.hpp"
+#endif
+
+using namespace iclap::rig;
+namespace fs = std::filesystem;
+
+// Input: a device root with regular "port" files ttyACM0..ttyACM3 and a
+// dangling symlink ttyUSB7 -> nowhere (a stale alias left by a udev rule, or
+// a scratch tree).
+// Now: list_serial_ports lists /.../ttyUSB7 as a port (accessible = false),
+// and `iclap devices` prints it with "[no read/write permission: add your
+// user to the port's group, usually 'dialout']" - advice that cannot help,
+// for a port that does not exist. (Dangling serial/by-id links, by contrast,
+// are skipped on purpose.)
+// Should: a candidate name whose link leads nowhere is no port: skipped,
+// like a dangling by-id link.
+// Cause: include/iclap/rig/serial_enumeration.hpp:71 - the test
+// `!it->is_directory(ec)` is false for a path that does not exist (and the
+// error it sets in `ec` is then cleared by it.increment(ec)), so the entry is
+// added without checking that it exists.
+TEST_CASE("list_serial_ports: a dangling ttyUSB symlink is not listed as a port" * doctest::skip()) {
+  const iclap::test::TempDir scratch("h57b_dangling");
+  const fs::path root = scratch.path / "dev";
+  fs::create_directories(root / "serial" / "by-id");
+  for (const char* name : {"ttyACM0", "ttyACM1", "ttyACM2", "ttyACM3"}) std::ofstream(root / name) << "";
+  fs::create_symlink("nowhere", root / "ttyUSB7");  // dangling
+  const auto ports = list_serial_ports(root.string());
+  std::vector<std::string> paths;
+  for (const auto& p : ports) paths.push_back(p.path);
+  CHECK(paths == std::vector<std::string>{(root / "ttyACM0").string(), (root / "ttyACM1").string(),
+                                          (root / "ttyACM2").string(), (root / "ttyACM3").string()});
+}
+
+// Input: make_pose_source("fixed:0,0,0,0.7071,0.7071,0,0") - 90 degrees
+// about x, typed with 4 significant digits, as a user types it and as the
+// dataset format itself stores orientations (kQuaternionNormTolerance =
+// 1e-3 in data/dataset.hpp: "values written with 4 significant digits are
+// within it"; ReplayPoseSource::from_dataset normalises such quaternions).
+// Now: InvalidArgument "pose: 'fixed:0,0,0,0.7071,0.7071,0,0': pose:
+// orientation quaternion has norm 0.9999904099540154, expected 1 within
+// 1e-6" (`iclap record --pose ...` exits 2 with it): a fixed pose needs
+// about 7 correct digits, stricter than any dataset the reader accepts.
+// Should: a quaternion within the dataset tolerance (1e-3) is accepted and
+// normalised, as from_dataset does; a zero or scaled one is still refused.
+// Cause: include/iclap/rig/pose_spec.hpp:68-70 passes the typed quaternion
+// as is to FixedPoseSource, whose check_pose (pose_source.hpp:35) allows
+// 1e-6.
+TEST_CASE("make_pose_source: a fixed quaternion typed with 4 digits is accepted and normalised" * doctest::skip()) {
+  std::unique_ptr<PoseSource> source;
+  REQUIRE_NOTHROW(source = make_pose_source("fixed:0,0,0,0.7071,0.7071,0,0"));
+  REQUIRE(source->has_orientation());
+  const auto pose = source->next();
+  REQUIRE(pose);
+  REQUIRE(pose->orientation);
+  CHECK(std::abs(pose->orientation->norm() - 1.0) < 1e-12);
+  CHECK(pose->orientation->x() == doctest::Approx(std::sqrt(0.5)).epsilon(1e-9));
+  // Still refused: clearly not a unit quaternion.
+  CHECK_THROWS_AS(make_pose_source("fixed:0,0,0,2,0,0,0"), iclap::InvalidArgument);
+}
+
+#ifdef ICLAP_CLI_PATH
+namespace {
+struct Scratch57 : test::ScratchDir {
+  explicit Scratch57(const std::string& tag) : test::ScratchDir(tag) {}
+};
+std::vector<std::string> record_args57(const std::string& port, const std::string& out) {
+  return {"record", "--port", port, "--object", "mug", "--exploration", "2", "--out", out};
+}
+bool sent_start(const test::PtyFakeSensor& fake) {
+  for (auto id : fake.command_ids())
+    if (id == wts_id::kStartPeriodicFrames) return true;
+  return false;
+}
+}  // namespace
+
+// Input: `iclap record --pose replay:DIR/po<newline>ses.csv --out new.csv`
+// with a valid 4-pose dataset under that (legal) file name.
+// Now: the sensor is stopped, queried and STARTED, then at the first frame
+// the run fails with exit 2: "iclap record: stopped by an error: no frame
+// recorded ... / iclap record: comments[3]: contains a line break" - an
+// argument the user never gave, found only after streaming began; nothing
+// is recorded.
+// Should: record the 4 frames (the file name quoted in the dataset comment,
+// e.g. with quote_text, which shows a line break as \x0a), or at least
+// refuse the run before the sensor streams, naming --pose.
+// Cause: examples/iclap/cmd_record.cpp:211 puts poses->description() (which
+// holds the raw replay path, pose_source.hpp:108) into a dataset comment;
+// the appender rejects comments with line breaks (csv_writer.hpp:37,
+// csv_appender.hpp:64), and for a new file it is opened only at the first
+// frame (cmd_record.cpp:255).
+TEST_CASE("iclap record: a replay file whose name has a line break does not fail after streaming" *
+          doctest::skip()) {
+  Scratch57 scratch("h57b_replay_nl");
+  iclap::Dataset poses;
+  poses.rows = 1;
+  poses.cols = 1;
+  for (int i = 0; i < 4; ++i) {
+    iclap::Frame f;
+    f.object = "path";
+    f.frame = i;
+    f.position = Eigen::Vector3d(0.01 * i, 0, 0.3);
+    f.pressures = Eigen::MatrixXd::Zero(1, 1);
+    poses.frames.push_back(f);
+  }
+  const std::string pose_file = scratch("po\nses.csv");
+  iclap::write_dataset_csv(pose_file, poses);
+  test::FakeSensorScript script;
+  test::PtyFakeSensor fake(script);
+  const std::string out = scratch("new.csv");
+  auto args = record_args57(fake.path(), out);
+  args.insert(args.end(), {"--pose", "replay:" + pose_file});
+  const auto r = test::run_iclap(args, scratch);
+  INFO(r.err);
+  CHECK(r.err.find("comments[") == std::string::npos);
+  if (r.status == 0) {
+    CHECK(iclap::read_dataset_csv(out).frames.size() == 4);
+  } else {  // a refusal is acceptable only up front, naming the option
+    CHECK(r.status == 2);
+    CHECK(r.err.find("--pose") != std::string::npos);
+    CHECK_FALSE(sent_start(fake));
+  }
+}
+
+// Input: `iclap record --out link.csv` where link.csv is a symlink to a file
+// that does not exist yet (e.g. data/latest.csv -> session-5.csv).
+// Now: exit 2, "iclap record: DIR/link.csv: cannot create: File exists",
+// although the recorder itself just found that no file exists there
+// (fs::exists is false) and would create the link's target fine (the
+// appender opens with fopen("ab"), which follows the link).
+// Should: record into the link's target (as shell redirection, cp or
+// fopen do), or refuse with a message that says what is wrong (a dangling
+// symlink), not "File exists".
+// Cause: examples/iclap/cmd_record.cpp:115 check_creatable (called at
+// :235) opens with O_CREAT | O_EXCL, which fails with EEXIST on any
+// symlink, dangling or not.
+TEST_CASE("iclap record: --out a dangling symlink is not refused with 'File exists'" * doctest::skip()) {
+  Scratch57 scratch("h57b_out_link");
+  const std::string target = scratch("session-5.csv");
+  const std::string link = scratch("latest.csv");
+  fs::create_symlink(target, link);
+  test::FakeSensorScript script;
+  test::PtyFakeSensor fake(script);
+  auto args = record_args57(fake.path(), link);
+  args.insert(args.end(), {"--frames", "3", "--pose", "fixed:0,0,0"});
+  const auto r = test::run_iclap(args, scratch);
+  INFO(r.err);
+  CHECK(r.err.find("File exists") == std::string::npos);
+  if (r.status == 0) {
+    REQUIRE(fs::exists(target));
+    CHECK(iclap::read_dataset_csv(target).frames.size() == 3);
+  } else {
+    CHECK(r.err.find("symlink") != std::string::npos);
+  }
+}
+// Input: `iclap record --out kept.csv` where kept.csv holds one complete row
+// and a partial last row "mug,2,1,0,0" (an earlier run lost power), and the
+// sensor then sends no frame (--seconds 0.3).
+// Now: exit 1 with "... cut off a partial last row (11 bytes) ..." and then
+// "iclap record: failed: no frame recorded ...; DIR/kept.csv is unchanged"
+// - but the file WAS changed: its last 11 bytes are gone.
+// Should: not claim the file is unchanged when the run repaired it (e.g.
+// "... keeps its 1 rows; a partial last row was cut off").
+// Cause: examples/iclap/cmd_record.cpp:284 no_frame_note says "is
+// unchanged" whenever `appending`, ignoring appender->recovered_bytes()
+// (cmd_record.cpp:225), which the open has already cut from the file.
+TEST_CASE("iclap record: a run that cut a partial row does not report the file as unchanged" * doctest::skip()) {
+  Scratch57 scratch("h57b_partial");
+  iclap::Dataset one;
+  one.rows = 14;
+  one.cols = 6;
+  iclap::Frame f;
+  f.object = "mug";
+  f.exploration = 2;
+  f.time = 1.0;
+  f.pressures = Eigen::MatrixXd::Zero(14, 6);
+  one.frames.push_back(f);
+  const std::string out = scratch("kept.csv");
+  iclap::write_dataset_csv(out, one);
+  { std::ofstream(out, std::ios::app) << "mug,2,1,0,0"; }  // partial row, no line break
+  const std::string before = test::read_text(out);
+  test::FakeSensorScript script;
+  script.max_frames = 0;  // silent
+  test::PtyFakeSensor fake(script);
+  auto args = record_args57(fake.path(), out);
+  args.insert(args.end(), {"--seconds", "0.3", "--pose", "fixed:0,0,0"});
+  const auto r = test::run_iclap(args, scratch);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  REQUIRE(test::read_text(out) != before);  // the partial row was cut (by design)
+  CHECK(r.err.find(out + " is unchanged") == std::string::npos);
+}
+#endif  // ICLAP_CLI_PATH
