@@ -36,18 +36,11 @@ namespace fs = std::filesystem;
 // Input: a device root with regular "port" files ttyACM0..ttyACM3 and a
 // dangling symlink ttyUSB7 -> nowhere (a stale alias left by a udev rule, or
 // a scratch tree).
-// Now: list_serial_ports lists /.../ttyUSB7 as a port (accessible = false),
-// and `iclap devices` prints it with "[no read/write permission: add your
-// user to the port's group, usually 'dialout']" - advice that cannot help,
-// for a port that does not exist. (Dangling serial/by-id links, by contrast,
-// are skipped on purpose.)
-// Should: a candidate name whose link leads nowhere is no port: skipped,
-// like a dangling by-id link.
-// Cause: include/iclap/rig/serial_enumeration.hpp:71 - the test
-// `!it->is_directory(ec)` is false for a path that does not exist (and the
-// error it sets in `ec` is then cleared by it.increment(ec)), so the entry is
-// added without checking that it exists.
-TEST_CASE("list_serial_ports: a dangling ttyUSB symlink is not listed as a port" * doctest::skip()) {
+// Was: ttyUSB7 listed as a port (accessible = false), so `iclap devices`
+// advised joining the 'dialout' group for a port that does not exist
+// (`!is_directory` is true for a missing target).
+// Now: skipped, like a dangling serial/by-id link.
+TEST_CASE("list_serial_ports: a dangling ttyUSB symlink is not listed as a port") {
   const iclap::test::TempDir scratch("h57b_dangling");
   const fs::path root = scratch.path / "dev";
   fs::create_directories(root / "serial" / "by-id");

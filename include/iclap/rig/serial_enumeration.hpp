@@ -46,8 +46,9 @@ inline bool natural_less(const std::string& a, const std::string& b) {
 }  // namespace serial_detail
 
 /// The serial ports under `dev_root` (default /dev) where a WTS sensor or a
-/// USB-serial bridge can appear: ttyACM* and ttyUSB*, plus every target of
-/// a `serial/by-id` link, each with its by-id names. Sorted naturally
+/// USB-serial bridge can appear: ttyACM* and ttyUSB* (not a directory or a
+/// dangling link), plus every target of a `serial/by-id` link (dangling
+/// ones skipped), each with its by-id names. Sorted naturally
 /// (ttyACM2 before ttyACM10). Empty when there are none; never throws for a
 /// missing or unreadable directory. `dev_root` exists for tests.
 inline std::vector<SerialPortInfo> list_serial_ports(const std::string& dev_root = "/dev") {
@@ -68,7 +69,12 @@ inline std::vector<SerialPortInfo> list_serial_ports(const std::string& dev_root
   };
   for (fs::directory_iterator it(dev_root, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (serial_detail::is_candidate_name(name) && !it->is_directory(ec)) find_or_add(it->path());
+    if (!serial_detail::is_candidate_name(name)) continue;
+    // What the name leads to: a dangling link (a stale udev alias) is no
+    // port, as a dangling by-id link is not; nor is a directory.
+    std::error_code e;
+    const fs::file_status target = it->status(e);
+    if (!e && fs::exists(target) && !fs::is_directory(target)) find_or_add(it->path());
   }
   const fs::path by_id = fs::path(dev_root) / "serial" / "by-id";
   ec.clear();
