@@ -58,16 +58,12 @@ TEST_CASE("list_serial_ports: a dangling ttyUSB symlink is not listed as a port"
 // dataset format itself stores orientations (kQuaternionNormTolerance =
 // 1e-3 in data/dataset.hpp: "values written with 4 significant digits are
 // within it"; ReplayPoseSource::from_dataset normalises such quaternions).
-// Now: InvalidArgument "pose: 'fixed:0,0,0,0.7071,0.7071,0,0': pose:
-// orientation quaternion has norm 0.9999904099540154, expected 1 within
-// 1e-6" (`iclap record --pose ...` exits 2 with it): a fixed pose needs
-// about 7 correct digits, stricter than any dataset the reader accepts.
-// Should: a quaternion within the dataset tolerance (1e-3) is accepted and
-// normalised, as from_dataset does; a zero or scaled one is still refused.
-// Cause: include/iclap/rig/pose_spec.hpp:68-70 passes the typed quaternion
-// as is to FixedPoseSource, whose check_pose (pose_source.hpp:35) allows
-// 1e-6.
-TEST_CASE("make_pose_source: a fixed quaternion typed with 4 digits is accepted and normalised" * doctest::skip()) {
+// Was: InvalidArgument "pose: 'fixed:...': pose: orientation quaternion has
+// norm 0.9999904099540154, expected 1 within 1e-6" - a typed pose needed
+// about 7 correct digits.
+// Now: accepted within the dataset tolerance and normalised, as
+// from_dataset does; a zero or scaled quaternion is still refused.
+TEST_CASE("make_pose_source: a fixed quaternion typed with 4 digits is accepted and normalised") {
   std::unique_ptr<PoseSource> source;
   REQUIRE_NOTHROW(source = make_pose_source("fixed:0,0,0,0.7071,0.7071,0,0"));
   REQUIRE(source->has_orientation());

@@ -31,15 +31,18 @@ inline constexpr bool kHaveOpenHaptics =
 inline std::string pose_spec_help(const std::string& indent = "  ") {
   std::string out;
   for (const char* line : {"fixed:X,Y,Z              the same position (metres) for every frame",
-                           "fixed:X,Y,Z,QW,QX,QY,QZ  ... with a unit quaternion orientation",
+                           "fixed:X,Y,Z,QW,QX,QY,QZ  ... with a unit quaternion orientation (norm 1 +- 0.001)",
                            "replay:FILE.csv          the poses of a dataset CSV in file order; the run ends with them",
                            "omni[:DEVICE]            the Phantom Omni / Touch arm via OpenHaptics (if built with it)"})
     out += (out.empty() ? "" : "\n") + indent + line;
   return out;
 }
 
-/// Parses a pose spec (see pose_spec_help()). Throws InvalidArgument naming
-/// `argument` for a malformed spec; the dataset reader's ParseError or
+/// Parses a pose spec (see pose_spec_help()). A fixed orientation is
+/// normalised when its norm is within kQuaternionNormTolerance of 1 (as the
+/// dataset reader's are: 0.7071,0.7071,0,0 is accepted). Throws
+/// InvalidArgument naming `argument` and the spec for a malformed spec or a
+/// quaternion further from unit norm; the dataset reader's ParseError or
 /// IoError for a bad replay file; TransportError if the arm cannot start.
 inline std::unique_ptr<PoseSource> make_pose_source(const std::string& spec, const std::string& argument = "pose") {
   const auto colon = spec.find(':');
@@ -65,11 +68,19 @@ inline std::unique_ptr<PoseSource> make_pose_source(const std::string& spec, con
                                           std::to_string(v.size()));
     Pose p;
     p.position = Eigen::Vector3d(v[0], v[1], v[2]);
-    if (v.size() == 7) p.orientation = Eigen::Quaterniond(v[3], v[4], v[5], v[6]);
+    if (v.size() == 7) {
+      // As the dataset reader: a quaternion typed with 4 digits is unit
+      // only within kQuaternionNormTolerance; FixedPoseSource wants 1e-6.
+      const Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
+      const std::string problem = quaternion_problem(q);
+      if (!problem.empty())
+        throw InvalidArgument(argument, quote_text(spec, 80) + ": the orientation quaternion " + problem);
+      p.orientation = q.normalized();
+    }
     try {
       return std::make_unique<FixedPoseSource>(p);
     } catch (const InvalidArgument& e) {
-      throw InvalidArgument(argument, quote_text(spec, 80) + ": " + e.what());
+      throw InvalidArgument(argument, quote_text(spec, 80) + ": " + e.reason());
     }
   }
   if (kind == "replay") {
