@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -112,6 +113,16 @@ std::string drop_summary(const rig::WtsSensor& sensor) {
 // missing directory, no permission): checked before the sensor streams,
 // although the file itself is only created at the first frame.
 void check_creatable(const std::string& path) {
+  // O_EXCL fails on any symbolic link ("File exists"); a dangling one is
+  // refused by name rather than followed (removing the file of a run
+  // without a row would then remove the link and leave its target).
+  std::error_code ec;
+  if (fs::is_symlink(path, ec)) {
+    const fs::path target = fs::read_symlink(path, ec);
+    const std::string to = ec ? std::string() : " to " + iclap::quote_text(target.string());
+    throw iclap::IoError(path, "is a dangling symlink" + to +
+                                   " (no file there): give --out the path of the file to create, not the link");
+  }
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) throw iclap::IoError(path, std::string("cannot create: ") + std::strerror(errno));
   ::close(fd);
@@ -119,11 +130,17 @@ void check_creatable(const std::string& path) {
 }
 
 // The next free frame number of (object, exploration) in an existing file.
+// Throws InvalidArgument if the file has the largest frame number already.
 std::int64_t next_frame_index(const std::string& path, const std::string& object, std::int64_t exploration) {
   const iclap::Dataset d = iclap::read_dataset_csv(path);
   std::int64_t next = 0;
-  for (const auto& f : d.frames)
-    if (f.object == object && f.exploration == exploration) next = std::max(next, f.frame + 1);
+  for (const auto& f : d.frames) {
+    if (f.object != object || f.exploration != exploration) continue;
+    if (f.frame == std::numeric_limits<std::int64_t>::max())
+      throw iclap::InvalidArgument(path, object + " exploration " + std::to_string(exploration) + " has frame " +
+                                             std::to_string(f.frame) + ", after which no frame number is left");
+    next = std::max(next, f.frame + 1);
+  }
   return next;
 }
 
@@ -220,8 +237,10 @@ int run_record(const Args& args) {
     appender.emplace(out_path, grid.rows, grid.cols, /*time=*/true, poses->has_orientation(), comments);
   };
   std::int64_t first_frame = 0;
+  std::size_t cut_bytes = 0;  // a partial last row cut off when opening an existing file
   if (appending) {
     open_appender();
+    cut_bytes = appender->recovered_bytes();
     if (appender->recovered_bytes() > 0)
       std::fprintf(stderr, "iclap record: %s: cut off a partial last row (%zu bytes) left by an earlier run\n",
                    out_path.c_str(), appender->recovered_bytes());
@@ -245,6 +264,10 @@ int run_record(const Args& args) {
   bool pose_ended = false;
   StatusLine status;
   const auto record_one = [&](const rig::PosedFrame& pf) {
+    if (first_frame > std::numeric_limits<std::int64_t>::max() - recorded)
+      throw iclap::InvalidArgument(out_path, object + " exploration " + std::to_string(exploration) +
+                                                 ": no frame number is left after " +
+                                                 std::to_string(first_frame + (recorded - 1)));
     row.frame = first_frame + recorded;
     row.position = pf.pose.position;
     row.orientation = pf.pose.orientation;
@@ -281,6 +304,9 @@ int run_record(const Args& args) {
   };
   // What became of the file when no frame was recorded.
   const auto no_frame_note = [&] {
+    if (appending && cut_bytes > 0)
+      return out_path + " keeps its complete rows; only its partial last row (" + std::to_string(cut_bytes) +
+             " bytes) was cut off";
     return out_path + (appending ? " is unchanged" : existed ? " is left empty" : " was not created");
   };
   const auto summary = [&](const char* how) {

@@ -1,10 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Reproducers from helper h57b's audit (session 57) of the rig code not
 // audited before: serial enumeration, SerialPort, pose specs and sources,
-// frame sources, `iclap devices` and `iclap record`. Each case FAILS on the
-// code it was written against and is marked skip so the suite stays green;
-// the comment above it says what happens now, what should happen and where
-// the cause is.
+// frame sources, `iclap devices` and `iclap record`. Each case failed on the
+// code it was written against; the comment above it says what the input
+// is, what used to happen and what happens now.
 //
 // Build: like test_rig_devices (include tests/rig, link util). The `iclap
 // record` cases need ICLAP_CLI_PATH, like test_record_cli, and are left out
@@ -15,6 +14,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -93,21 +93,11 @@ bool sent_start(const test::PtyFakeSensor& fake) {
 
 // Input: `iclap record --pose replay:DIR/po<newline>ses.csv --out new.csv`
 // with a valid 4-pose dataset under that (legal) file name.
-// Now: the sensor is stopped, queried and STARTED, then at the first frame
-// the run fails with exit 2: "iclap record: stopped by an error: no frame
-// recorded ... / iclap record: comments[3]: contains a line break" - an
-// argument the user never gave, found only after streaming began; nothing
-// is recorded.
-// Should: record the 4 frames (the file name quoted in the dataset comment,
-// e.g. with quote_text, which shows a line break as \x0a), or at least
-// refuse the run before the sensor streams, naming --pose.
-// Cause: examples/iclap/cmd_record.cpp:211 puts poses->description() (which
-// holds the raw replay path, pose_source.hpp:108) into a dataset comment;
-// the appender rejects comments with line breaks (csv_writer.hpp:37,
-// csv_appender.hpp:64), and for a new file it is opened only at the first
-// frame (cmd_record.cpp:255).
-TEST_CASE("iclap record: a replay file whose name has a line break does not fail after streaming" *
-          doctest::skip()) {
+// Was: the sensor STARTED, then at the first frame exit 2 with "comments[3]:
+// contains a line break" (the raw path in the "poses:" dataset comment);
+// nothing recorded.
+// Now: the 4 frames are recorded; the comment holds the quoted name (\x0a).
+TEST_CASE("iclap record: a replay file whose name has a line break does not fail after streaming") {
   Scratch57 scratch("h57b_replay_nl");
   iclap::Dataset poses;
   poses.rows = 1;
@@ -130,28 +120,19 @@ TEST_CASE("iclap record: a replay file whose name has a line break does not fail
   const auto r = test::run_iclap(args, scratch);
   INFO(r.err);
   CHECK(r.err.find("comments[") == std::string::npos);
-  if (r.status == 0) {
-    CHECK(iclap::read_dataset_csv(out).frames.size() == 4);
-  } else {  // a refusal is acceptable only up front, naming the option
-    CHECK(r.status == 2);
-    CHECK(r.err.find("--pose") != std::string::npos);
-    CHECK_FALSE(sent_start(fake));
-  }
+  REQUIRE(r.status == 0);
+  CHECK(iclap::read_dataset_csv(out).frames.size() == 4);
+  CHECK(test::read_text(out).find("# poses: replay of '" + scratch("po") + "\\x0ases.csv' (4 poses)\n") !=
+        std::string::npos);
 }
 
 // Input: `iclap record --out link.csv` where link.csv is a symlink to a file
 // that does not exist yet (e.g. data/latest.csv -> session-5.csv).
-// Now: exit 2, "iclap record: DIR/link.csv: cannot create: File exists",
-// although the recorder itself just found that no file exists there
-// (fs::exists is false) and would create the link's target fine (the
-// appender opens with fopen("ab"), which follows the link).
-// Should: record into the link's target (as shell redirection, cp or
-// fopen do), or refuse with a message that says what is wrong (a dangling
-// symlink), not "File exists".
-// Cause: examples/iclap/cmd_record.cpp:115 check_creatable (called at
-// :235) opens with O_CREAT | O_EXCL, which fails with EEXIST on any
-// symlink, dangling or not.
-TEST_CASE("iclap record: --out a dangling symlink is not refused with 'File exists'" * doctest::skip()) {
+// Was: exit 2, "DIR/latest.csv: cannot create: File exists" (O_CREAT |
+// O_EXCL fails on any symlink).
+// Now: exit 2 before the sensor streams, naming the dangling symlink and
+// its target.
+TEST_CASE("iclap record: --out a dangling symlink is not refused with 'File exists'") {
   Scratch57 scratch("h57b_out_link");
   const std::string target = scratch("session-5.csv");
   const std::string link = scratch("latest.csv");
@@ -163,25 +144,20 @@ TEST_CASE("iclap record: --out a dangling symlink is not refused with 'File exis
   const auto r = test::run_iclap(args, scratch);
   INFO(r.err);
   CHECK(r.err.find("File exists") == std::string::npos);
-  if (r.status == 0) {
-    REQUIRE(fs::exists(target));
-    CHECK(iclap::read_dataset_csv(target).frames.size() == 3);
-  } else {
-    CHECK(r.err.find("symlink") != std::string::npos);
-  }
+  CHECK(r.status == 2);
+  CHECK(r.err.find(link + ": is a dangling symlink to '" + target + "'") != std::string::npos);
+  CHECK_FALSE(sent_start(fake));
+  CHECK_FALSE(fs::exists(target));
+  CHECK(fs::is_symlink(link));
 }
 // Input: `iclap record --out kept.csv` where kept.csv holds one complete row
 // and a partial last row "mug,2,1,0,0" (an earlier run lost power), and the
 // sensor then sends no frame (--seconds 0.3).
-// Now: exit 1 with "... cut off a partial last row (11 bytes) ..." and then
-// "iclap record: failed: no frame recorded ...; DIR/kept.csv is unchanged"
-// - but the file WAS changed: its last 11 bytes are gone.
-// Should: not claim the file is unchanged when the run repaired it (e.g.
-// "... keeps its 1 rows; a partial last row was cut off").
-// Cause: examples/iclap/cmd_record.cpp:284 no_frame_note says "is
-// unchanged" whenever `appending`, ignoring appender->recovered_bytes()
-// (cmd_record.cpp:225), which the open has already cut from the file.
-TEST_CASE("iclap record: a run that cut a partial row does not report the file as unchanged" * doctest::skip()) {
+// Was: exit 1 with "...; DIR/kept.csv is unchanged", although opening had
+// cut its last 11 bytes.
+// Now: "... keeps its complete rows; only its partial last row (11 bytes)
+// was cut off".
+TEST_CASE("iclap record: a run that cut a partial row does not report the file as unchanged") {
   Scratch57 scratch("h57b_partial");
   iclap::Dataset one;
   one.rows = 14;
@@ -206,5 +182,40 @@ TEST_CASE("iclap record: a run that cut a partial row does not report the file a
   CHECK(r.status == 1);
   REQUIRE(test::read_text(out) != before);  // the partial row was cut (by design)
   CHECK(r.err.find(out + " is unchanged") == std::string::npos);
+  CHECK(r.err.find(out + " keeps its complete rows; only its partial last row (11 bytes) was cut off") !=
+        std::string::npos);
+}
+
+// Input: `iclap record --out full.csv` where full.csv has a row of the same
+// object and exploration with frame 9223372036854775807 (INT64_MAX).
+// Was: the next frame number overflowed a signed integer (undefined).
+// Now: exit 2 before the sensor streams, saying no frame number is left;
+// the file is unchanged.
+TEST_CASE("iclap record: an exploration at frame INT64_MAX is refused, not overflowed") {
+  Scratch57 scratch("h57b_frame_max");
+  iclap::Dataset one;
+  one.rows = 14;
+  one.cols = 6;
+  iclap::Frame f;
+  f.object = "mug";
+  f.exploration = 2;
+  f.frame = std::numeric_limits<std::int64_t>::max();
+  f.time = 1.0;
+  f.pressures = Eigen::MatrixXd::Zero(14, 6);
+  one.frames.push_back(f);
+  const std::string out = scratch("full.csv");
+  iclap::write_dataset_csv(out, one);
+  const std::string before = test::read_text(out);
+  test::FakeSensorScript script;
+  test::PtyFakeSensor fake(script);
+  auto args = record_args57(fake.path(), out);
+  args.insert(args.end(), {"--frames", "2", "--pose", "fixed:0,0,0"});
+  const auto r = test::run_iclap(args, scratch);
+  INFO(r.err);
+  CHECK(r.status == 2);
+  CHECK(r.err.find("mug exploration 2 has frame 9223372036854775807, after which no frame number is left") !=
+        std::string::npos);
+  CHECK_FALSE(sent_start(fake));
+  CHECK(test::read_text(out) == before);
 }
 #endif  // ICLAP_CLI_PATH

@@ -51,7 +51,8 @@ class PoseSource {
   virtual ~PoseSource() = default;
   virtual std::optional<Pose> next() = 0;
   virtual bool has_orientation() const = 0;
-  /// A short description for logs and dataset comments ("fixed 0.1,0.2,0.3").
+  /// A short description for logs and dataset comments ("fixed 0.1,0.2,0.3"),
+  /// on one line.
   virtual std::string description() const = 0;
 };
 
@@ -105,7 +106,9 @@ class ReplayPoseSource final : public PoseSource {
       poses.push_back(Pose{f.position, f.orientation ? std::optional<Eigen::Quaterniond>(f.orientation->normalized())
                                                      : std::nullopt});
     if (poses.empty()) throw EmptyInput(name, "has no frames to replay poses from");
-    return ReplayPoseSource(std::move(poses), "replay of " + name);
+    // Quoted: a file name may hold a line break, which no dataset comment
+    // may (the recorder writes the description into one).
+    return ReplayPoseSource(std::move(poses), "replay of " + quote_text(name));
   }
 
   std::optional<Pose> next() override {
