@@ -10,6 +10,7 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -121,17 +122,13 @@ TEST_CASE("audit: closest point on a nearly collinear triangle is far from the c
   CHECK(std::sqrt(bvh.closest_point(p).squared_distance) <= expected + 1e-9);
 }
 
-// Input: a ray with a NaN in its origin (or its direction) against a
-// tetrahedron the same ray without the NaN would hit.
-// Now: MeshBvh::intersect returns std::nullopt ("no hit") without a word; a
-// NaN pad pose in the simulator reads as "no contact". closest_point, the
-// sibling query, throws NonFiniteValue naming "p" for the same input.
-// Should: throw NonFiniteValue naming "origin" / "direction" (and
-// InvalidArgument for a zero direction, which also silently misses), as
-// closest_point does.
-// Cause: include/iclap/mesh/bvh.hpp:76-80, intersect checks none of origin,
-// direction, t_max; NaN makes every slab test fail.
-TEST_CASE("audit: MeshBvh::intersect with a NaN origin or direction silently misses" * doctest::skip()) {
+// Input: a ray with a NaN in its origin, its direction or t_max, or a zero
+// direction, against a tetrahedron the same ray without the NaN would hit.
+// Was: MeshBvh::intersect returned std::nullopt ("no hit"; a NaN pad pose in
+// the simulator read as "no contact"), while closest_point throws for a NaN.
+// Now: NonFiniteValue naming "origin" / "direction" / "t_max",
+// InvalidArgument naming "direction" for a zero direction.
+TEST_CASE("audit: MeshBvh::intersect with a NaN origin or direction silently misses") {
   iclap::TriangleMesh m;
   m.vertices.resize(3, 4);
   m.vertices << 0, 1, 0, 0,  //
@@ -146,7 +143,15 @@ TEST_CASE("audit: MeshBvh::intersect with a NaN origin or direction silently mis
   REQUIRE(bvh.intersect(Eigen::Vector3d(0.2, 0.2, -1), Eigen::Vector3d(0, 0, 1)).has_value());
   CHECK_THROWS_AS(bvh.intersect(Eigen::Vector3d(nan, 0.2, -1), Eigen::Vector3d(0, 0, 1)), iclap::NonFiniteValue);
   CHECK_THROWS_AS(bvh.intersect(Eigen::Vector3d(0.2, 0.2, -1), Eigen::Vector3d(0, 0, nan)), iclap::NonFiniteValue);
-  CHECK_THROWS_AS(bvh.intersect(Eigen::Vector3d(0.2, 0.2, -1), Eigen::Vector3d(0, 0, 0)), iclap::InvalidArgument);
+  CHECK_THROWS_WITH_AS(bvh.intersect(Eigen::Vector3d(0.2, 0.2, -1), Eigen::Vector3d(0, 0, 1), nan),
+                       doctest::Contains("t_max"), iclap::NonFiniteValue);
+  CHECK_THROWS_WITH_AS(bvh.intersect(Eigen::Vector3d(0.2, 0.2, -1), Eigen::Vector3d(0, 0, 0)),
+                       doctest::Contains("direction"), iclap::InvalidArgument);
+  CHECK_THROWS_WITH_AS(bvh.intersect(Eigen::Vector3d(0.2, 0.2, -std::numeric_limits<double>::infinity()),
+                                     Eigen::Vector3d(0, 0, 1)),
+                       doctest::Contains("origin"), iclap::NonFiniteValue);
+  // t_max = infinity (the default) and a negative t_max (an empty range) stay valid.
+  CHECK(bvh.intersect(Eigen::Vector3d(0.2, 0.2, -1), Eigen::Vector3d(0, 0, 1), -1.0) == std::nullopt);
 }
 
 // Input: a binary STL whose 80-byte header starts with "solid" (as the doc

@@ -73,9 +73,20 @@ class MeshBvh {
   /// First intersection of the ray `origin + t * direction`, 0 <= t <= t_max,
   /// with the triangles (only front faces with RaySide::front). `direction`
   /// must be a unit vector. Ties go to the smaller triangle index.
+  /// Throws NonFiniteValue naming "origin" or "direction" for a NaN or
+  /// infinite coordinate and "t_max" for a NaN t_max, and InvalidArgument
+  /// naming "direction" for a zero direction (each made every box test
+  /// fail: "no hit", which the simulator read as "no contact").
   std::optional<RayHit> intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
                                   double t_max = std::numeric_limits<double>::infinity(),
                                   RaySide side = RaySide::any) const {
+    for (Index k = 0; k < 3; ++k) {
+      if (!std::isfinite(origin[k])) throw NonFiniteValue("origin", k, 0, origin[k]);
+      if (!std::isfinite(direction[k])) throw NonFiniteValue("direction", k, 0, direction[k]);
+    }
+    if (std::isnan(t_max)) throw NonFiniteValue("t_max", 0, 0, t_max);
+    if (direction.x() == 0 && direction.y() == 0 && direction.z() == 0)
+      throw InvalidArgument("direction", "is zero; a unit vector is needed");
     const Data& d = *data_;
     const Eigen::Vector3d inv(1.0 / direction.x(), 1.0 / direction.y(), 1.0 / direction.z());
     double best_t = t_max;
