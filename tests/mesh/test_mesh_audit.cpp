@@ -154,23 +154,18 @@ TEST_CASE("audit: MeshBvh::intersect with a NaN origin or direction silently mis
   CHECK(bvh.intersect(Eigen::Vector3d(0.2, 0.2, -1), Eigen::Vector3d(0, 0, 1), -1.0) == std::nullopt);
 }
 
-// Input: a binary STL whose 80-byte header starts with "solid" (as the doc
-// comment says many CAD exporters write) and whose triangle count at byte 80
-// disagrees with its size: announces 2 triangles (184 bytes) but holds 1
-// (134 bytes), or announces 1 and has 2 stray bytes after it.
-// Now: it is parsed as ASCII STL and refused with
-// "x.stl:1: file ends inside a solid (no 'endsolid': is it cut short?)" (or,
-// when a 0x0A byte occurs in the binary data, "unknown ASCII STL keyword" at
-// some line of binary garbage). The same file with a header not starting
-// with "solid" gets the right diagnosis: "byte offset 80: binary STL
-// announces 2 triangles (184 bytes) but the file has 134 bytes".
-// Should: the binary diagnosis (byte offset 80, announced count vs size) for
-// a file that is not text, whatever its header says.
-// Cause: include/iclap/mesh/stl.hpp:221 sends every file starting with
-// "solid" to the ASCII parser once the size test failed, although
-// looks_like_ascii_stl (stl.hpp:198-208) has already seen NUL / non-text
-// bytes.
-TEST_CASE("audit: binary STL with a 'solid' header and a wrong triangle count gets an ASCII error" * doctest::skip()) {
+// Input: a binary STL whose 80-byte header starts with "solid" (as many CAD
+// exporters write) and whose triangle count at byte 80 disagrees with its
+// size: announces 2 triangles (184 bytes) but holds 1 (134 bytes), or
+// announces 1 and has 2 stray bytes after it.
+// Was: parsed as ASCII STL and refused with "x.stl:1: file ends inside a
+// solid (no 'endsolid': is it cut short?)" (or "unknown ASCII STL keyword"
+// at a line of binary garbage).
+// Now: a file with a NUL or control byte is not taken for text: "byte offset
+// 80: binary STL announces 2 triangles (184 bytes) but the file has 134
+// bytes", as for a header not starting with "solid". A text file cut short
+// (even with a UTF-8 solid name) still gets the ASCII diagnosis.
+TEST_CASE("audit: binary STL with a 'solid' header and a wrong triangle count gets an ASCII error") {
   std::string stl(84 + 50, '\0');
   std::memcpy(&stl[0], "solid exported by CAD", 21);
   stl[80] = 2;  // announces 2 triangles, holds 1
@@ -186,4 +181,9 @@ TEST_CASE("audit: binary STL with a 'solid' header and a wrong triangle count ge
   const std::string extra = iclap::test::parse_outcome(load, padded, "x.stl");
   CHECK(extra.find("byte offset 80") != std::string::npos);
   CHECK(extra.find("cut short") == std::string::npos);
+
+  const std::string text = "solid W\xC3\xBCrfel\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n"
+                           "   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\n";
+  const std::string ascii = iclap::test::parse_outcome(load, text, "x.stl");
+  CHECK(ascii.find("cut short") != std::string::npos);
 }

@@ -195,14 +195,19 @@ inline TriangleMesh parse_stl_ascii(std::string_view text, const std::string& na
   return finish_welded(weld, tri);
 }
 
+/// True for a NUL or a control character other than white space: a byte no
+/// text file holds (bytes above 126 may be UTF-8 in a solid's name).
+inline bool is_binary_byte(unsigned char c) {
+  return c == 0 || (c < 32 && c != '\n' && c != '\r' && c != '\t' && c != '\f' && c != '\v');
+}
+
 inline bool looks_like_ascii_stl(std::string_view data) {
   std::size_t i = 0;
   while (i < data.size() && is_space(data[i])) ++i;
   if (!starts_with(data.substr(i), "solid")) return false;
   for (char ch : data) {
     const auto c = static_cast<unsigned char>(ch);
-    if (c == 0 || (c < 32 && c != '\n' && c != '\r' && c != '\t' && c != '\f' && c != '\v') || c > 126)
-      return false;
+    if (is_binary_byte(c) || c > 126) return false;
   }
   return data.find("endsolid") != std::string_view::npos || data.find("facet") != std::string_view::npos;
 }
@@ -218,7 +223,18 @@ inline TriangleMesh parse_stl(std::string_view data, const std::string& name) {
   if (starts_with(text, "\xEF\xBB\xBF")) text.remove_prefix(3);
   std::size_t i = 0;
   while (i < text.size() && is_space(text[i])) ++i;
-  if (starts_with(text.substr(i), "solid")) return parse_stl_ascii(text, name);
+  // A file starting with "solid" that holds a byte no text holds is a
+  // binary STL whose size is wrong (the ASCII parser said "cut short?" or
+  // named a keyword of binary garbage).
+  std::size_t binary_at = data.size();
+  if (data.size() >= 84)
+    for (std::size_t k = 0; k < data.size(); ++k)
+      if (is_binary_byte(static_cast<unsigned char>(data[k]))) {
+        binary_at = k;
+        break;
+      }
+  const bool solid = starts_with(text.substr(i), "solid");
+  if (solid && binary_at == data.size()) return parse_stl_ascii(text, name);
   if (data.size() < 84)
     throw ParseError(name, 0, "not an STL file: " + std::to_string(data.size()) +
                                   " bytes, too short for binary STL and no 'solid' keyword");
@@ -226,7 +242,10 @@ inline TriangleMesh parse_stl(std::string_view data, const std::string& name) {
   throw ParseError(name, 0,
                    "byte offset 80: binary STL announces " + std::to_string(n) + " triangles (" +
                        std::to_string(84 + std::uint64_t{50} * n) + " bytes) but the file has " +
-                       std::to_string(data.size()) + " bytes; not ASCII STL either (no 'solid')");
+                       std::to_string(data.size()) + " bytes; not ASCII STL either (" +
+                       (solid ? "byte offset " + std::to_string(binary_at) + " is not text"
+                              : std::string("no 'solid'")) +
+                       ")");
 }
 
 }  // namespace detail
@@ -235,7 +254,9 @@ inline TriangleMesh parse_stl(std::string_view data, const std::string& name) {
 /// told by size, not by the first bytes: a file whose size is 84 + 50 x (the
 /// triangle count at byte 80) is binary even when its header starts with
 /// "solid" (as many CAD exporters write), unless it is plain text with STL
-/// keywords. An ASCII file may start with a UTF-8 byte-order mark.
+/// keywords. A file of another size is ASCII if it starts with "solid" and
+/// holds no NUL or control byte (other than white space); else, from 84
+/// bytes on, it gets the binary size error. An ASCII file may start with a UTF-8 byte-order mark.
 /// Bit-identical corners are merged into shared vertices; facet
 /// normals in the file are ignored (winding order defines the normal).
 /// Throws ParseError(name, line, reason) for ASCII errors and ParseError(name,
