@@ -90,19 +90,13 @@ TEST_CASE("audit: convex_hull of a noisy cube leaves input points far outside" *
 // rounding (c = a + 0.885 (b - a) + ~1e-16; |ab x ac| ~ 5e-16, not exactly 0),
 // and the query p, whose closest point on the triangle is on edge ab / ca,
 // at distance 0.59583804832556109 (near a).
-// Now: MeshBvh::closest_on_triangle returns q = (0.672, -0.809, -0.968) (a
-// point of the triangle, near b and c) at distance 1.848042867037103, three
-// times too far; MeshBvh::closest_point on the one-triangle mesh answers
-// squared_distance 3.4152624384067156 instead of 0.355. Random near-collinear
-// triangles give errors up to the triangle's size.
-// Should: the point of the triangle closest to p (its doc comment), here
-// within rounding of distance 0.5958.
-// Cause: include/iclap/mesh/bvh.hpp:208 only treats an exactly zero cross
-// product as degenerate; for a nearly collinear triangle Ericson's region
-// tests (bvh.hpp:214-227, differences of products such as vc = d1 d4 - d3 d2)
-// and the barycentric division at :229 cancel catastrophically and pick a
-// wrong region.
-TEST_CASE("audit: closest point on a nearly collinear triangle is far from the closest" * doctest::skip()) {
+// Was: MeshBvh::closest_on_triangle returned a point at distance 1.848 (near
+// b and c; closest_point on the one-triangle mesh likewise): only an exactly
+// zero cross product counted as degenerate, and Ericson's region tests
+// cancelled to noise.
+// Now: a triangle with |ab x ac|^2 <= 16 eps |ab|^2 |ac|^2 is answered from
+// its edges: distance 0.5958.
+TEST_CASE("audit: closest point on a nearly collinear triangle is far from the closest") {
   const Eigen::Vector3d a(-0.76688466754728335, 0.87253919762037446, -0.87112187892827364);
   const Eigen::Vector3d b(0.79138178326066577, -0.94832059555921444, -0.9758733231302319);
   const Eigen::Vector3d c(0.6126852840212329, -0.73951081820802866, -0.96386079705713357);

@@ -183,10 +183,11 @@ class MeshBvh {
 
   /// The point of triangle abc closest to p (Ericson, Real-Time Collision
   /// Detection, 5.1.5). A triangle without area (two corners equal, or all
-  /// three on a line) gives the closest point of its edges, the first edge
-  /// of ab, bc, ca on a tie: Ericson's divisions are 0 / 0 there (corners a
-  /// and b equal gave NaN, which lost every comparison, so a query answered
-  /// another triangle).
+  /// three on a line up to rounding: the sine of the angle at a below 6e-8)
+  /// gives the closest point of its edges, the first edge of ab, bc, ca on a
+  /// tie: Ericson's divisions are 0 / 0 there (corners a and b equal gave
+  /// NaN, which lost every comparison, so a query answered another
+  /// triangle), and his region tests cancel to noise when nearly so.
   ///
   /// Its products reach the fourth power of the triangle's size, so a
   /// triangle smaller than 2^-100 or larger than 2^100 (in its largest
@@ -216,7 +217,15 @@ class MeshBvh {
   static Eigen::Vector3d closest_on_unit_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                                   const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
     const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-    if (ab.cross(ac).squaredNorm() == 0.0) {
+    // Nearly collinear corners count as degenerate: with sin(angle at a)
+    // near 1e-16, Ericson's region tests (differences of products such as
+    // d1 d4 - d3 d2, all proportional to |ab x ac|) cancel to rounding noise
+    // and can pick a point as far off as the triangle's size. Below
+    // sin^2 = 16 eps (sin < 6e-8) the closest point of the edges is used: it
+    // is off by at most the triangle's width, < 6e-8 of its shorter edge
+    // (sampled: Ericson is good to ~1e-8 of the size at sin 1e-6).
+    if (ab.cross(ac).squaredNorm() <=
+        16 * std::numeric_limits<double>::epsilon() * ab.squaredNorm() * ac.squaredNorm()) {
       Eigen::Vector3d best = closest_on_segment(p, a, b);
       for (const Eigen::Vector3d& q : {closest_on_segment(p, b, c), closest_on_segment(p, c, a)})
         if ((q - p).squaredNorm() < (best - p).squaredNorm()) best = q;
