@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -23,10 +24,19 @@ namespace iclap {
 /// Quickhull (Barber, Dobkin, Huhdanpaa 1996) with a distance tolerance of
 /// about 1e-12 of the point set's extent: points closer than that to a hull
 /// face count as on it, so coplanar input (CAD faces) gives no slivers
-/// outside the hull. Expected O(n log n). Works at any scale whose bounds'
-/// centre and extent are finite (up to about 1e307). Throws
-/// InvalidArgument if the points are not finite, are too large for that, or
-/// span no volume (fewer than 4 points, or all on one plane).
+/// outside the hull. A horizon face the new point is nearly coplanar with
+/// is replaced too when the new face across the edge would fold over it,
+/// so nearly coplanar input (CAD faces flat up to rounding noise) gives a
+/// convex hull. The result is checked: every input point within 1e-6 of the
+/// extent of every face (in practice within 1e-7), a closed surface;
+/// if rounding broke that, the hull is recomputed with a tolerance 10 and
+/// 100 times larger, then InvalidArgument naming "points" is thrown (no
+/// wrong hull is returned).
+/// Expected O(n log n), plus O(n h) for the check (h hull triangles). Works
+/// at any scale whose bounds' centre and extent are finite (up to about
+/// 1e307). Throws InvalidArgument if the points are not finite, are too
+/// large for that, or span no volume (fewer than 4 points, or all on one
+/// plane).
 inline TriangleMesh convex_hull(const Eigen::Matrix3Xd& points) {
   const Index n = points.cols();
   if (n < 4) throw InvalidArgument("points", "a 3-D convex hull needs at least 4 points, got " + std::to_string(n));
@@ -45,7 +55,10 @@ inline TriangleMesh convex_hull(const Eigen::Matrix3Xd& points) {
   const int exponent = detail::unit_exponent(extent);
   const Eigen::Matrix3Xd p = detail::scale_by_power_of_two(points.colwise() - centre, -exponent);
   extent = std::ldexp(extent, -exponent);
-  const double eps = 1e-12 * extent * 64;
+  // Distance tolerance of the decisions; larger on a retry (below).
+  double eps = 1e-12 * extent * 64;
+  // How far in front of a face of the result an input point may be.
+  const double tolerance = 1e-6 * extent;
 
   struct Face {
     int v[3];
@@ -120,91 +133,174 @@ inline TriangleMesh convex_hull(const Eigen::Matrix3Xd& points) {
   }
   if (dv < 0) throw InvalidArgument("points", "all points lie on a plane (no volume)");
   if (nabc.dot(pt(dv) - pt(a)) > 0) std::swap(b, c);  // make abc face away from d
-  make_face(a, b, c);
-  make_face(a, dv, b);
-  make_face(b, dv, c);
-  make_face(c, dv, a);
+  std::vector<int> live;
+  for (int attempt = 0;; ++attempt) {
+    faces.clear();
+    edge_face.clear();
+    make_face(a, b, c);
+    make_face(a, dv, b);
+    make_face(b, dv, c);
+    make_face(c, dv, a);
 
-  // Assign every point to a face it is outside of.
-  for (int i = 0; i < n; ++i) {
-    if (i == a || i == b || i == c || i == dv) continue;
-    for (auto& f : faces)
-      if (dist(f, i) > eps) {
-        f.outside.push_back(i);
-        break;
-      }
-  }
-
-  std::vector<int> visible, stack, horizon_a, horizon_b;
-  std::vector<char> is_visible;
-  for (std::size_t fi = 0; fi < faces.size(); ++fi) {
-    if (!faces[fi].alive || faces[fi].outside.empty()) continue;
-    // The farthest outside point of this face is the next hull vertex.
-    int eye = -1;
-    double far = -1;
-    for (int i : faces[fi].outside) {
-      const double d = dist(faces[fi], i);
-      if (d > far) {
-        far = d;
-        eye = i;
-      }
-    }
-    // Faces visible from the eye: flood fill across edges.
-    visible.clear();
-    is_visible.assign(faces.size(), 0);
-    stack.assign(1, static_cast<int>(fi));
-    is_visible[fi] = 1;
-    while (!stack.empty()) {
-      const int f = stack.back();
-      stack.pop_back();
-      visible.push_back(f);
-      for (int k = 0; k < 3; ++k) {
-        const Face& face = faces[static_cast<std::size_t>(f)];
-        const auto it = edge_face.find(edge_key(face.v[(k + 1) % 3], face.v[k]));
-        if (it == edge_face.end()) continue;
-        const int g = it->second;
-        if (is_visible[static_cast<std::size_t>(g)] || !faces[static_cast<std::size_t>(g)].alive) continue;
-        if (dist(faces[static_cast<std::size_t>(g)], eye) > eps) {
-          is_visible[static_cast<std::size_t>(g)] = 1;
-          stack.push_back(g);
-        }
-      }
-    }
-    // Horizon: edges of visible faces whose neighbour is not visible.
-    horizon_a.clear();
-    horizon_b.clear();
-    for (int f : visible) {
-      const Face& face = faces[static_cast<std::size_t>(f)];
-      for (int k = 0; k < 3; ++k) {
-        const int u = face.v[k], w = face.v[(k + 1) % 3];
-        const auto it = edge_face.find(edge_key(w, u));
-        if (it == edge_face.end() || !is_visible[static_cast<std::size_t>(it->second)]) {
-          horizon_a.push_back(u);
-          horizon_b.push_back(w);
-        }
-      }
-    }
-    std::vector<int> orphans;
-    for (int f : visible) {
-      Face& face = faces[static_cast<std::size_t>(f)];
-      face.alive = false;
-      for (int k = 0; k < 3; ++k) {
-        const auto it = edge_face.find(edge_key(face.v[k], face.v[(k + 1) % 3]));
-        if (it != edge_face.end() && it->second == f) edge_face.erase(it);
-      }
-      for (int i : face.outside)
-        if (i != eye) orphans.push_back(i);
-      face.outside.clear();
-      face.outside.shrink_to_fit();
-    }
-    const std::size_t first_new = faces.size();
-    for (std::size_t h = 0; h < horizon_a.size(); ++h) make_face(horizon_a[h], horizon_b[h], eye);
-    for (int i : orphans)
-      for (std::size_t g = first_new; g < faces.size(); ++g)
-        if (dist(faces[g], i) > eps) {
-          faces[g].outside.push_back(i);
+    // Assign every point to a face it is outside of.
+    for (int i = 0; i < n; ++i) {
+      if (i == a || i == b || i == c || i == dv) continue;
+      for (auto& f : faces)
+        if (dist(f, i) > eps) {
+          f.outside.push_back(i);
           break;
         }
+    }
+
+    std::vector<int> visible, stack, horizon_a, horizon_b;
+    std::vector<char> is_visible, on_hull(static_cast<std::size_t>(n), 0);
+    for (std::size_t fi = 0; fi < faces.size(); ++fi) {
+      if (!faces[fi].alive || faces[fi].outside.empty()) continue;
+      // The farthest outside point of this face is the next hull vertex.
+      int eye = -1;
+      double far = -1;
+      for (int i : faces[fi].outside) {
+        const double d = dist(faces[fi], i);
+        if (d > far) {
+          far = d;
+          eye = i;
+        }
+      }
+      // Faces visible from the eye: flood fill across edges.
+      visible.clear();
+      is_visible.assign(faces.size(), 0);
+      stack.assign(1, static_cast<int>(fi));
+      is_visible[fi] = 1;
+      while (!stack.empty()) {
+        const int f = stack.back();
+        stack.pop_back();
+        visible.push_back(f);
+        for (int k = 0; k < 3; ++k) {
+          const Face& face = faces[static_cast<std::size_t>(f)];
+          const auto it = edge_face.find(edge_key(face.v[(k + 1) % 3], face.v[k]));
+          if (it == edge_face.end()) continue;
+          const int g = it->second;
+          if (is_visible[static_cast<std::size_t>(g)] || !faces[static_cast<std::size_t>(g)].alive) continue;
+          if (dist(faces[static_cast<std::size_t>(g)], eye) > eps) {
+            is_visible[static_cast<std::size_t>(g)] = 1;
+            stack.push_back(g);
+          }
+        }
+      }
+      // Horizon: edges of visible faces whose neighbour is not visible. A
+      // neighbour the eye is nearly coplanar with (within eps, so not
+      // visible) can still give a new face that folds over it: the eye within
+      // eps of the edge's line (a sliver of any normal), or in the
+      // neighbour's plane on its side of the edge (normal flipped). Such a
+      // neighbour is made visible too, until every new face is convex to its
+      // neighbour across the horizon (a point it drops is within eps of the
+      // new faces; the check below makes sure).
+      for (bool grown = true; grown;) {
+        grown = false;
+        horizon_a.clear();
+        horizon_b.clear();
+        for (std::size_t vi = 0; vi < visible.size(); ++vi) {
+          const Face& face = faces[static_cast<std::size_t>(visible[vi])];
+          for (int k = 0; k < 3; ++k) {
+            const int u = face.v[k], w = face.v[(k + 1) % 3];
+            const auto it = edge_face.find(edge_key(w, u));
+            if (it != edge_face.end() && is_visible[static_cast<std::size_t>(it->second)]) continue;
+            if (it != edge_face.end()) {
+              const Face& g = faces[static_cast<std::size_t>(it->second)];
+              const int o = g.v[0] != u && g.v[0] != w ? g.v[0] : g.v[1] != u && g.v[1] != w ? g.v[1] : g.v[2];
+              const Eigen::Vector3d uw = pt(w) - pt(u), nn = uw.cross(pt(eye) - pt(u));
+              const double len = nn.norm();
+              bool sound = len > eps * uw.norm();  // eye farther than eps from the line
+              if (sound) {
+                const Eigen::Vector3d nrm = nn / len;
+                const double d = nrm.dot(pt(o) - pt(u));
+                sound = d < -eps || (d <= eps && nrm.dot(g.normal) > 0);
+              }
+              if (!sound) {
+                is_visible[static_cast<std::size_t>(it->second)] = 1;
+                visible.push_back(it->second);
+                grown = true;
+                continue;
+              }
+            }
+            horizon_a.push_back(u);
+            horizon_b.push_back(w);
+          }
+        }
+      }
+      // Corners of the visible faces off the horizon leave the hull: they are
+      // orphans too, kept if rounding leaves them outside a new face.
+      std::vector<int> orphans;
+      for (std::size_t h = 0; h < horizon_a.size(); ++h) on_hull[static_cast<std::size_t>(horizon_a[h])] = 1;
+      on_hull[static_cast<std::size_t>(eye)] = 1;
+      for (int f : visible)
+        for (int k = 0; k < 3; ++k) {
+          const int v = faces[static_cast<std::size_t>(f)].v[k];
+          if (!on_hull[static_cast<std::size_t>(v)]) {
+            on_hull[static_cast<std::size_t>(v)] = 1;
+            orphans.push_back(v);
+          }
+        }
+      for (std::size_t h = 0; h < horizon_a.size(); ++h) on_hull[static_cast<std::size_t>(horizon_a[h])] = 0;
+      on_hull[static_cast<std::size_t>(eye)] = 0;
+      for (int v : orphans) on_hull[static_cast<std::size_t>(v)] = 0;
+      for (int f : visible) {
+        Face& face = faces[static_cast<std::size_t>(f)];
+        face.alive = false;
+        for (int k = 0; k < 3; ++k) {
+          const auto it = edge_face.find(edge_key(face.v[k], face.v[(k + 1) % 3]));
+          if (it != edge_face.end() && it->second == f) edge_face.erase(it);
+        }
+        for (int i : face.outside)
+          if (i != eye) orphans.push_back(i);
+        face.outside.clear();
+        face.outside.shrink_to_fit();
+      }
+      const std::size_t first_new = faces.size();
+      for (std::size_t h = 0; h < horizon_a.size(); ++h) make_face(horizon_a[h], horizon_b[h], eye);
+      for (int i : orphans)
+        for (std::size_t g = first_new; g < faces.size(); ++g)
+          if (dist(faces[g], i) > eps) {
+            faces[g].outside.push_back(i);
+            break;
+          }
+    }
+
+    // Rounding can still fold the hull where many points are nearly coplanar.
+    // Check the result rather than return a hull with input points in front
+    // of a face (a wrong resting face in place_on_table) or an open surface;
+    // retry with coarser decisions, then refuse.
+    live.clear();
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      if (faces[f].alive) live.push_back(static_cast<int>(f));
+    std::string failure = live.size() < 4 ? "left no closed hull" : "";
+    for (int f : live)
+      for (int k = 0; k < 3 && failure.empty(); ++k) {
+        // Each directed edge in one live face, its reverse in another.
+        const Face& face = faces[static_cast<std::size_t>(f)];
+        const auto own = edge_face.find(edge_key(face.v[k], face.v[(k + 1) % 3]));
+        const auto it = edge_face.find(edge_key(face.v[(k + 1) % 3], face.v[k]));
+        if (own == edge_face.end() || own->second != f || it == edge_face.end() ||
+            !faces[static_cast<std::size_t>(it->second)].alive)
+          failure = "left the hull open";
+      }
+    Eigen::MatrixX3d normals(static_cast<Index>(live.size()), 3);
+    Eigen::VectorXd offsets(static_cast<Index>(live.size()));
+    for (std::size_t j = 0; j < live.size(); ++j) {
+      normals.row(static_cast<Index>(j)) = faces[static_cast<std::size_t>(live[j])].normal.transpose();
+      offsets[static_cast<Index>(j)] = faces[static_cast<std::size_t>(live[j])].offset;
+    }
+    for (Index first = 0; first < n && failure.empty(); first += 256) {
+      const Index count = std::min<Index>(256, n - first);
+      const double worst = ((normals * p.middleCols(first, count)).colwise() - offsets).maxCoeff();
+      if (!(worst <= tolerance))
+        failure = "left an input point " + format_value(worst / extent) + " of the extent in front of a hull face";
+    }
+    if (failure.empty()) break;
+    if (attempt == 2)
+      throw InvalidArgument("points", "rounding on nearly coplanar points " + failure +
+                                          "; no hull is returned (snapping the points to their planes may help)");
+    eps *= 10;
   }
 
   // Collect live faces, renumber the vertices they use.
@@ -212,8 +308,8 @@ inline TriangleMesh convex_hull(const Eigen::Matrix3Xd& points) {
   std::vector<int> remap(static_cast<std::size_t>(n), -1);
   std::vector<int> tri;
   std::vector<double> coords;
-  for (const auto& f : faces) {
-    if (!f.alive) continue;
+  for (int fi : live) {
+    const Face& f = faces[static_cast<std::size_t>(fi)];
     for (int k = 0; k < 3; ++k) {
       int& r = remap[static_cast<std::size_t>(f.v[k])];
       if (r < 0) {
