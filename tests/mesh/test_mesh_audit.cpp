@@ -226,3 +226,26 @@ TEST_CASE("audit: place_on_table on noisy gridded cubes rests on a face of the c
     CHECK(placed.resting_face_area == doctest::Approx(4.0).epsilon(1e-6));
   }
 }
+
+// Input: scale_mesh with a factor of NaN, -1, 0 or infinity.
+// Was: applied without a word (a mesh of NaN, one turned inside out, one
+// collapsed to a point).
+// Now: InvalidArgument naming "factor"; the mesh is left as it was.
+TEST_CASE("audit: scale_mesh refuses a factor that is not finite and positive") {
+  iclap::TriangleMesh m;
+  m.vertices.resize(3, 3);
+  m.vertices << 0, 1, 0,  //
+      0, 0, 1,            //
+      0, 0, 0;
+  m.triangles.resize(3, 1);
+  m.triangles << 0, 1, 2;
+  const Eigen::Matrix3Xd before = m.vertices;
+  for (const double factor : {std::numeric_limits<double>::quiet_NaN(), -1.0, 0.0,
+                              std::numeric_limits<double>::infinity()}) {
+    CAPTURE(factor);
+    CHECK_THROWS_WITH_AS(iclap::scale_mesh(m, factor), doctest::Contains("factor"), iclap::InvalidArgument);
+    CHECK(m.vertices == before);
+  }
+  iclap::scale_mesh(m, 1e-3);
+  CHECK(m.vertices.isApprox(before * 1e-3));
+}

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <string>
 
 #include "iclap/core/error.hpp"
@@ -60,7 +61,14 @@ inline TriangleMesh load_mesh(const std::string& path) {
   throw InvalidArgument("path", quote_text(path) + " has no mesh extension (expected .obj, .stl or .ply)");
 }
 
-/// Multiplies every vertex by `factor` (e.g. metres_per_unit(unit)).
-inline void scale_mesh(TriangleMesh& mesh, double factor) { mesh.vertices *= factor; }
+/// Multiplies every vertex by `factor` (e.g. metres_per_unit(unit)). Throws
+/// InvalidArgument naming "factor" unless it is finite and positive (NaN
+/// gave a mesh of NaN, a negative factor one turned inside out, zero one
+/// collapsed to a point).
+inline void scale_mesh(TriangleMesh& mesh, double factor) {
+  if (!(std::isfinite(factor) && factor > 0))
+    throw InvalidArgument("factor", "must be finite and positive, got " + format_value(factor));
+  mesh.vertices *= factor;
+}
 
 }  // namespace iclap
