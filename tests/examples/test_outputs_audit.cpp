@@ -89,7 +89,9 @@ TEST_CASE("--touches out of order: the figures need the counts in increasing ord
 // range 0.60..0.61 reads "60.00% 60.25% ..." (fitted, that range is now
 // widened to 4 points: "59% 60% 61% 62%").
 TEST_CASE("render_svg: percentage tick labels keep the tick's value") {
-  for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{{0.55, 0.65}, {0.60, 0.61}}) {
+  for (const auto& range : std::vector<std::pair<double, double>>{{0.55, 0.65}, {0.60, 0.61}}) {
+    // Named copies: clang refuses structured bindings in CAPTURE's lambda.
+    const double lo = range.first, hi = range.second;
     CAPTURE(lo);
     CAPTURE(hi);
     const std::vector<std::string> labels = y_tick_labels(render_svg(trade_study_plot({0.03, 6}, {lo, hi})));
@@ -131,7 +133,8 @@ TEST_CASE("render_svg: y_auto with every value equal still gives distinct tick l
 // Now: 2 and 5 times the powers of ten are added ("2 5", "20 50"); then
 // 1..9 times them, and failing that the axis widens to the two around.
 TEST_CASE("render_svg: a log x axis within one decade still has tick labels") {
-  for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{{1.5, 6.0}, {12.0, 80.0}}) {
+  for (const auto& range : std::vector<std::pair<double, double>>{{1.5, 6.0}, {12.0, 80.0}}) {
+    const double lo = range.first, hi = range.second;  // not bindings: see above
     CAPTURE(lo);
     CAPTURE(hi);
     const std::vector<std::string> labels = x_tick_labels(render_svg(trade_study_plot({lo, hi}, {0.5, 0.6})));
