@@ -84,6 +84,20 @@ struct Scratch57 : test::ScratchDir {
 std::vector<std::string> record_args57(const std::string& port, const std::string& out) {
   return {"record", "--port", port, "--object", "mug", "--exploration", "2", "--out", out};
 }
+// A dataset of one all-zero 14 x 6 frame of mug, exploration 2.
+iclap::Dataset one_mug_frame(std::int64_t frame) {
+  iclap::Dataset one;
+  one.rows = 14;
+  one.cols = 6;
+  iclap::Frame f;
+  f.object = "mug";
+  f.exploration = 2;
+  f.frame = frame;
+  f.time = 1.0;
+  f.pressures = Eigen::MatrixXd::Zero(14, 6);
+  one.frames.push_back(f);
+  return one;
+}
 bool sent_start(const test::PtyFakeSensor& fake) {
   for (auto id : fake.command_ids())
     if (id == wts_id::kStartPeriodicFrames) return true;
@@ -159,17 +173,8 @@ TEST_CASE("iclap record: --out a dangling symlink is not refused with 'File exis
 // was cut off".
 TEST_CASE("iclap record: a run that cut a partial row does not report the file as unchanged") {
   Scratch57 scratch("h57b_partial");
-  iclap::Dataset one;
-  one.rows = 14;
-  one.cols = 6;
-  iclap::Frame f;
-  f.object = "mug";
-  f.exploration = 2;
-  f.time = 1.0;
-  f.pressures = Eigen::MatrixXd::Zero(14, 6);
-  one.frames.push_back(f);
   const std::string out = scratch("kept.csv");
-  iclap::write_dataset_csv(out, one);
+  iclap::write_dataset_csv(out, one_mug_frame(0));
   { std::ofstream(out, std::ios::app) << "mug,2,1,0,0"; }  // partial row, no line break
   const std::string before = test::read_text(out);
   test::FakeSensorScript script;
@@ -193,18 +198,8 @@ TEST_CASE("iclap record: a run that cut a partial row does not report the file a
 // the file is unchanged.
 TEST_CASE("iclap record: an exploration at frame INT64_MAX is refused, not overflowed") {
   Scratch57 scratch("h57b_frame_max");
-  iclap::Dataset one;
-  one.rows = 14;
-  one.cols = 6;
-  iclap::Frame f;
-  f.object = "mug";
-  f.exploration = 2;
-  f.frame = std::numeric_limits<std::int64_t>::max();
-  f.time = 1.0;
-  f.pressures = Eigen::MatrixXd::Zero(14, 6);
-  one.frames.push_back(f);
   const std::string out = scratch("full.csv");
-  iclap::write_dataset_csv(out, one);
+  iclap::write_dataset_csv(out, one_mug_frame(std::numeric_limits<std::int64_t>::max()));
   const std::string before = test::read_text(out);
   test::FakeSensorScript script;
   test::PtyFakeSensor fake(script);
