@@ -241,9 +241,9 @@ int run_record(const Args& args) {
   if (appending) {
     open_appender();
     cut_bytes = appender->recovered_bytes();
-    if (appender->recovered_bytes() > 0)
+    if (cut_bytes > 0)
       std::fprintf(stderr, "iclap record: %s: cut off a partial last row (%zu bytes) left by an earlier run\n",
-                   out_path.c_str(), appender->recovered_bytes());
+                   out_path.c_str(), cut_bytes);
     if (appender->rows_in_file() > 0) {
       first_frame = next_frame_index(out_path, object, exploration);
       std::fprintf(stderr, "iclap record: appending to %s (%zu rows); %s exploration %lld continues at frame %lld\n",
