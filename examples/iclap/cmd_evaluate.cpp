@@ -860,7 +860,6 @@ int run_evaluate(const Args& args) {
   }
   std::printf("\n");
   if (r.capped_draws) std::printf("note: %zu draws asked for more touches than their exploration had and used all of them\n", r.capped_draws);
-  if (r.empty_explorations) std::printf("note: %zu held-out explorations had no touch and were not tested\n", r.empty_explorations);
 
   StagedOutput staged(out);
   std::vector<std::string> figures;

@@ -126,8 +126,6 @@ struct CrossValidationResult {
   /// Draws that asked for more touches than the held-out exploration had:
   /// they use all of its touches.
   std::size_t capped_draws = 0;
-  /// (object, exploration) pairs without any touch, so never tested.
-  std::size_t empty_explorations = 0;
   /// Classifier names and the CPU time each spent on the test sets of the
   /// outer folds (all threads added up), for the time per recognition:
   /// classifier_seconds[c] / classifier_tests[c]. A classifier runs on a
@@ -511,10 +509,10 @@ class CrossValidation {
     std::vector<Draw> draws;
     for (Index o = 0; o < static_cast<Index>(table_.objects.size()); ++o) {
       const auto pool = touches_of(o, rank);
-      if (pool.empty()) {
-        if (inner < 0) ++result.empty_explorations;
-        continue;
-      }
+      // Every rank below folds() is an exploration with touches of every
+      // object (folds() is the fewest explorations_of(), which lists only
+      // explorations with touches), so a pool is never empty here.
+      if (pool.empty()) continue;
       for (std::size_t t = 0; t < settings_.touches.size(); ++t) {
         for (int r = 0; r < repeats; ++r) {
           const std::uint64_t stream = draw_stream(fold, inner, o);
