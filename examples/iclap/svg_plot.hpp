@@ -188,6 +188,38 @@ inline std::vector<LabelBox> place_labels(const std::vector<double>& px, const s
   return placed;
 }
 
+/// The number of marker shapes that `marker` draws.
+inline constexpr std::size_t kMarkerShapes = 5;
+
+/// A marker of `color` centred on (x, y), of about the area of a circle of
+/// radius `r`: by `shape` (modulo kMarkerShapes) a circle, a square, a
+/// triangle, a diamond or a downward triangle.
+inline std::string marker(std::size_t shape, double x, double y, double r, const std::string& color) {
+  auto point = [](double px, double py) { return fmt("%.1f", px) + "," + fmt("%.1f", py); };
+  const std::string paint = "fill=\"" + color + "\"";
+  switch (shape % kMarkerShapes) {
+    case 1: {
+      const double h = 0.9 * r;
+      return "<rect x=\"" + fmt("%.1f", x - h) + "\" y=\"" + fmt("%.1f", y - h) + "\" width=\"" + fmt("%.1f", 2 * h) +
+             "\" height=\"" + fmt("%.1f", 2 * h) + "\" " + paint + "/>\n";
+    }
+    case 2:
+    case 4: {  // equilateral, about its centre, pointing up (2) or down (4)
+      const double R = (shape % kMarkerShapes == 2 ? 1.5 : -1.5) * r, half = 0.866 * 1.5 * r;
+      return "<polygon points=\"" + point(x, y - R) + " " + point(x + half, y + 0.5 * R) + " " +
+             point(x - half, y + 0.5 * R) + "\" " + paint + "/>\n";
+    }
+    case 3: {
+      const double d = 1.25 * r;
+      return "<polygon points=\"" + point(x, y - d) + " " + point(x + d, y) + " " + point(x, y + d) + " " +
+             point(x - d, y) + "\" " + paint + "/>\n";
+    }
+    default:
+      return "<circle cx=\"" + fmt("%.1f", x) + "\" cy=\"" + fmt("%.1f", y) + "\" r=\"" + fmt("%g", r) + "\" " + paint +
+             "/>\n";
+  }
+}
+
 }  // namespace detail
 
 /// Renders `p` as a standalone SVG document.
@@ -242,7 +274,8 @@ inline std::string render_svg(const Plot& p) {
   const std::size_t n_colors = sizeof colors / sizeof *colors;
   // Line patterns, {plain, dashed}, one pair per round of the colours, so
   // that series k and k + 12 differ (fig_all_methods.svg has 19 methods);
-  // they repeat after 36 series.
+  // they repeat after 36 series. Markers (a scatter's, a line's points) take
+  // a shape per round likewise, repeating after 60 series.
   static const char* dashes[][2] = {{"", "6,4"}, {"2,3", "8,3,2,3"}, {"12,4", "12,3,2,3,2,3"}};
   auto dash_of = [&](std::size_t k, bool dashed) -> std::string {
     const char* d = dashes[(k / n_colors) % (sizeof dashes / sizeof *dashes)][dashed ? 1 : 0];
@@ -288,6 +321,7 @@ inline std::string render_svg(const Plot& p) {
   for (std::size_t k = 0; k < p.series.size(); ++k) {
     const auto& ser = p.series[k];
     const std::string c = colors[k % n_colors], dash = dash_of(k, ser.dashed);
+    const std::size_t shape = k / n_colors;  // a marker shape per round of the colours
     if (!ser.markers_only && ser.x.size() > 1) {
       std::string pts;
       for (std::size_t i = 0; i < ser.x.size(); ++i) pts += fmt("%.1f", X(ser.x[i])) + "," + fmt("%.1f", Y(ser.y[i])) + " ";
@@ -295,8 +329,7 @@ inline std::string render_svg(const Plot& p) {
            dash + " points=\"" + pts + "\"/>\n";
     }
     for (std::size_t i = 0; i < ser.x.size(); ++i) {
-      s += "<circle cx=\"" + fmt("%.1f", X(ser.x[i])) + "\" cy=\"" + fmt("%.1f", Y(ser.y[i])) + "\" r=\"" +
-           (ser.markers_only ? "4" : "2.5") + "\" fill=\"" + c + "\"/>\n";
+      s += detail::marker(shape, X(ser.x[i]), Y(ser.y[i]), ser.markers_only ? 4 : 2.5, c);
       if (i < ser.point_labels.size() && !ser.point_labels[i].empty()) {
         label_x.push_back(X(ser.x[i]));
         label_y.push_back(Y(ser.y[i]));
@@ -305,8 +338,7 @@ inline std::string render_svg(const Plot& p) {
     }
     const double ly = top + 10 + 18 * static_cast<double>(k);
     if (ser.markers_only)
-      s += "<circle cx=\"" + fmt("%.1f", left + pw + 24) + "\" cy=\"" + fmt("%.1f", ly) + "\" r=\"4\" fill=\"" + c +
-           "\"/>\n";
+      s += detail::marker(shape, left + pw + 24, ly, 4, c);
     else
       s += "<line x1=\"" + fmt("%.1f", left + pw + 12) + "\" x2=\"" + fmt("%.1f", left + pw + 36) + "\" y1=\"" +
            fmt("%.1f", ly) + "\" y2=\"" + fmt("%.1f", ly) + "\" stroke=\"" + c + "\" stroke-width=\"2.5\"" + dash +

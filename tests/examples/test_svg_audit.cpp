@@ -178,7 +178,7 @@ void check_distinct(const Chart& c) {
 // Now: each round of the colours has its own marker shape (circle, square,
 // triangle, diamond, downward triangle), in the legend too; a chart of up
 // to 12 series keeps its filled circles.
-TEST_CASE("render_svg: markers-only series beyond 12 colours have their own marker shape" * doctest::skip()) {
+TEST_CASE("render_svg: markers-only series beyond 12 colours have their own marker shape") {
   const Chart c = parse(render_svg(many_series(24, true)));
   REQUIRE(c.legend.size() == 24);
   check_distinct(c);
