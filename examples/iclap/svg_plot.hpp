@@ -226,8 +226,24 @@ inline std::string marker(std::size_t shape, double x, double y, double r, const
 inline std::string render_svg(const Plot& p) {
   using detail::escape_xml;
   using detail::fmt;
-  const double W = 760, H = 440, left = 70, right = 200, top = 40, bottom = 55;
-  const double pw = W - left - right, ph = H - top - bottom;
+  const double H = 440, left = 70, right = 200, top = 40, bottom = 55;
+  const double pw = 760 - left - right, ph = H - top - bottom;
+  // The legend, right of the plot: rows 18 units apart from top + 10, as
+  // many as fit in the drawing (22); more series wrap into further columns
+  // of equal length (read down, then across), each as wide as its longest
+  // name and at least `right`, and the drawing widens to hold them.
+  const std::size_t n_series = p.series.size();
+  const std::size_t max_rows = static_cast<std::size_t>((H - top - 18) / 18) + 1;
+  const std::size_t n_columns = std::max<std::size_t>(1, (n_series + max_rows - 1) / max_rows);
+  const std::size_t rows = std::max<std::size_t>(1, (n_series + n_columns - 1) / n_columns);
+  std::vector<double> column_x = {left + pw};  // left edges, then the drawing's right edge
+  for (std::size_t c = 0; c < n_columns; ++c) {
+    double width = right;
+    for (std::size_t k = c * rows; k < std::min(n_series, (c + 1) * rows); ++k)
+      width = std::max(width, std::ceil(50 + detail::label_width(p.series[k].name, 12)));
+    column_x.push_back(column_x.back() + width);
+  }
+  const double W = column_x.back();
   double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = p.y_min, y1 = p.y_max;
   if (p.y_auto) {
     y0 = std::numeric_limits<double>::infinity();
@@ -336,14 +352,14 @@ inline std::string render_svg(const Plot& p) {
         labels.push_back(ser.point_labels[i]);
       }
     }
-    const double ly = top + 10 + 18 * static_cast<double>(k);
+    const double lx = column_x[k / rows], ly = top + 10 + 18 * static_cast<double>(k % rows);
     if (ser.markers_only)
-      s += detail::marker(shape, left + pw + 24, ly, 4, c);
+      s += detail::marker(shape, lx + 24, ly, 4, c);
     else
-      s += "<line x1=\"" + fmt("%.1f", left + pw + 12) + "\" x2=\"" + fmt("%.1f", left + pw + 36) + "\" y1=\"" +
+      s += "<line x1=\"" + fmt("%.1f", lx + 12) + "\" x2=\"" + fmt("%.1f", lx + 36) + "\" y1=\"" +
            fmt("%.1f", ly) + "\" y2=\"" + fmt("%.1f", ly) + "\" stroke=\"" + c + "\" stroke-width=\"2.5\"" + dash +
            "/>\n";
-    s += "<text x=\"" + fmt("%.1f", left + pw + 42) + "\" y=\"" + fmt("%.1f", ly + 4) + "\">" + escape_xml(ser.name) +
+    s += "<text x=\"" + fmt("%.1f", lx + 42) + "\" y=\"" + fmt("%.1f", ly + 4) + "\">" + escape_xml(ser.name) +
          "</text>\n";
   }
   const std::vector<detail::LabelBox> boxes =
