@@ -193,10 +193,13 @@ inline constexpr std::size_t kMarkerShapes = 5;
 
 /// A marker of `color` centred on (x, y), of about the area of a circle of
 /// radius `r`: by `shape` (modulo kMarkerShapes) a circle, a square, a
-/// triangle, a diamond or a downward triangle.
-inline std::string marker(std::size_t shape, double x, double y, double r, const std::string& color) {
+/// triangle, a diamond or a downward triangle; filled, or `hollow` (white
+/// inside a `color` outline).
+inline std::string marker(std::size_t shape, double x, double y, double r, const std::string& color,
+                          bool hollow = false) {
   auto point = [](double px, double py) { return fmt("%.1f", px) + "," + fmt("%.1f", py); };
-  const std::string paint = "fill=\"" + color + "\"";
+  const std::string paint =
+      hollow ? "fill=\"white\" stroke=\"" + color + "\" stroke-width=\"1.5\"" : "fill=\"" + color + "\"";
   switch (shape % kMarkerShapes) {
     case 1: {
       const double h = 0.9 * r;
@@ -288,15 +291,19 @@ inline std::string render_svg(const Plot& p) {
   static const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b",
                                  "#e377c2", "#7f7f7f", "#bcbd22", "#17becf", "#393b79", "#637939"};
   const std::size_t n_colors = sizeof colors / sizeof *colors;
-  // Line patterns, {plain, dashed}, one pair per round of the colours, so
-  // that series k and k + 12 differ (fig_all_methods.svg has 19 methods);
-  // they repeat after 36 series. Markers (a scatter's, a line's points) take
-  // a shape per round likewise, repeating after 60 series.
+  // Each round of the colours (series k and k + 12 share a colour;
+  // fig_all_methods.svg has 19 methods) has its own line pattern, {plain,
+  // dashed}, of 3, and its own marker (a scatter's, a line's points) of 5
+  // shapes, filled and then hollow: no two series share colour and marker
+  // up to 10 rounds (120 series), nor colour, line pattern and marker up to
+  // 30 rounds (360 lines); beyond, the styles repeat.
   static const char* dashes[][2] = {{"", "6,4"}, {"2,3", "8,3,2,3"}, {"12,4", "12,3,2,3,2,3"}};
   auto dash_of = [&](std::size_t k, bool dashed) -> std::string {
     const char* d = dashes[(k / n_colors) % (sizeof dashes / sizeof *dashes)][dashed ? 1 : 0];
     return *d ? std::string(" stroke-dasharray=\"") + d + "\"" : std::string();
   };
+  // With more series than colours, a line's legend entry shows its marker too.
+  const bool legend_markers = n_series > n_colors;
   std::string s;
   s += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt("%.0f", W) + "\" height=\"" + fmt("%.0f", H) +
        "\" font-family=\"sans-serif\" font-size=\"12\">\n";
@@ -337,7 +344,8 @@ inline std::string render_svg(const Plot& p) {
   for (std::size_t k = 0; k < p.series.size(); ++k) {
     const auto& ser = p.series[k];
     const std::string c = colors[k % n_colors], dash = dash_of(k, ser.dashed);
-    const std::size_t shape = k / n_colors;  // a marker shape per round of the colours
+    const std::size_t round = k / n_colors, shape = round % detail::kMarkerShapes;
+    const bool hollow = (round / detail::kMarkerShapes) % 2 == 1;
     if (!ser.markers_only && ser.x.size() > 1) {
       std::string pts;
       for (std::size_t i = 0; i < ser.x.size(); ++i) pts += fmt("%.1f", X(ser.x[i])) + "," + fmt("%.1f", Y(ser.y[i])) + " ";
@@ -345,7 +353,7 @@ inline std::string render_svg(const Plot& p) {
            dash + " points=\"" + pts + "\"/>\n";
     }
     for (std::size_t i = 0; i < ser.x.size(); ++i) {
-      s += detail::marker(shape, X(ser.x[i]), Y(ser.y[i]), ser.markers_only ? 4 : 2.5, c);
+      s += detail::marker(shape, X(ser.x[i]), Y(ser.y[i]), ser.markers_only ? 4 : 2.5, c, hollow);
       if (i < ser.point_labels.size() && !ser.point_labels[i].empty()) {
         label_x.push_back(X(ser.x[i]));
         label_y.push_back(Y(ser.y[i]));
@@ -353,12 +361,14 @@ inline std::string render_svg(const Plot& p) {
       }
     }
     const double lx = column_x[k / rows], ly = top + 10 + 18 * static_cast<double>(k % rows);
-    if (ser.markers_only)
-      s += detail::marker(shape, lx + 24, ly, 4, c);
-    else
+    if (ser.markers_only) {
+      s += detail::marker(shape, lx + 24, ly, 4, c, hollow);
+    } else {
       s += "<line x1=\"" + fmt("%.1f", lx + 12) + "\" x2=\"" + fmt("%.1f", lx + 36) + "\" y1=\"" +
            fmt("%.1f", ly) + "\" y2=\"" + fmt("%.1f", ly) + "\" stroke=\"" + c + "\" stroke-width=\"2.5\"" + dash +
            "/>\n";
+      if (legend_markers) s += detail::marker(shape, lx + 24, ly, 3, c, hollow);
+    }
     s += "<text x=\"" + fmt("%.1f", lx + 42) + "\" y=\"" + fmt("%.1f", ly + 4) + "\">" + escape_xml(ser.name) +
          "</text>\n";
   }

@@ -243,9 +243,10 @@ TEST_CASE("render_svg: the legend of many series stays inside the drawing") {
 // Was: three dash patterns (plain and dashed), one per round of the 12
 // colours: series k and k + 36 were the same line, in the legend too.
 // Now: colour, dash pattern (3 rounds) and marker (5 shapes, filled then
-// hollow: 10 rounds) change together, so 120 markers-only series and 360
+// hollow: 10 rounds) change together, and with more than 12 series a
+// line's legend entry shows its marker: 120 markers-only series and 360
 // lines differ; beyond, the styles repeat (nothing throws).
-TEST_CASE("render_svg: many series, no two with the same colour, dash pattern and marker" * doctest::skip()) {
+TEST_CASE("render_svg: many series, no two with the same colour, dash pattern and marker") {
   for (const bool markers : {false, true}) {
     CAPTURE(markers);
     const Chart c = parse(render_svg(many_series(120, markers, 3)));
