@@ -28,7 +28,8 @@ namespace iclap {
 
 /// Appends frames to a dataset CSV file one complete row at a time.
 ///
-/// Opening: if `path` does not exist or is empty, it is created with the
+/// Opening: if `path` does not exist or is empty (or holds only a UTF-8
+/// byte-order mark, which is kept), it is created with the
 /// comment lines and the header of `columns` (writer order). If it exists, its
 /// header must have exactly the columns of `columns` (in any order; rows are
 /// then written in the file's column order) or the constructor throws
@@ -42,7 +43,12 @@ namespace iclap {
 /// last one not empty (or more fields), may be a whole row written by
 /// another program or one cut inside its last number: the constructor
 /// refuses it (ParseError naming the line) rather than guess, and changes
-/// nothing.
+/// nothing. A header cut short (a run killed while creating the file: the
+/// file ends inside its comments or header, with no line break and no row)
+/// is completed, nothing cut, when it is the beginning of the header line
+/// this appender writes, or of its comments and header
+/// (`header_completed()`); any other last header or comment line without a
+/// line break and before any row is refused as possibly cut short.
 ///
 /// Writing: `append` validates the frame first (InvalidArgument, nothing
 /// written; this includes a frame whose object, exploration and frame index
@@ -66,11 +72,13 @@ class DatasetCsvAppender {
     if (std::filesystem::is_directory(path_, ec)) throw IoError(path_, "is a directory, not a dataset file");
     const bool exists = std::filesystem::exists(path_, ec);
     const bool empty = exists && std::filesystem::file_size(path_, ec) == 0 && !ec;
-    bool need_newline = false;
+    std::string start;  // written first: a new file's comments and header, or the end of the file's header
     if (exists && !empty) {
-      need_newline = open_existing();
+      start = open_existing(comments);
     } else {
       slots_ = detail::writer_slots(columns_);
+      start = detail::header_text(comments, columns_);
+      lines_ = comments.size() + 1;
     }
     file_ = std::fopen(path_.c_str(), "ab");
     if (!file_) throw IoError(path_, std::string("cannot open for appending: ") + std::strerror(errno));
@@ -80,12 +88,7 @@ class DatasetCsvAppender {
     }
     // One buffer larger than any row: each row leaves in a single write().
     std::setvbuf(file_, nullptr, _IOFBF, 1 << 16);
-    if (!exists || empty) {
-      write_and_flush(detail::header_text(comments, columns_));
-      lines_ = comments.size() + 1;
-    } else if (need_newline) {
-      write_and_flush("\n");
-    }
+    if (!start.empty()) write_and_flush(start);
   }
 
   /// Same as above with the columns spelled out: a `rows` x `cols` grid,
@@ -101,6 +104,7 @@ class DatasetCsvAppender {
         file_(std::exchange(o.file_, nullptr)),
         rows_in_file_(o.rows_in_file_),
         recovered_bytes_(o.recovered_bytes_),
+        header_completed_(o.header_completed_),
         size_(o.size_),
         failed_(o.failed_),
         frames_(std::move(o.frames_)),
@@ -150,13 +154,19 @@ class DatasetCsvAppender {
   std::size_t rows_in_file() const noexcept { return rows_in_file_; }
   /// Bytes of a trailing partial row cut off when opening (0 normally).
   std::size_t recovered_bytes() const noexcept { return recovered_bytes_; }
+  /// True if the file held a header cut short when opening (the beginning of
+  /// this appender's header line, or of its comments and header) and the
+  /// appender wrote the rest.
+  bool header_completed() const noexcept { return header_completed_; }
 
  private:
   // Reads the existing file's header, checks it, counts its rows and indexes
   // their frames; then (and only then) cuts off a trailing partial row.
-  // Returns true if the file's last line is the (complete) header, which
-  // lacks its line break.
-  bool open_existing() {
+  // Returns what to write before the first row: "\n" if the file's last line
+  // is the (complete) header, which lacks its line break; the rest of the
+  // comments and header of a file that holds only a BOM or a beginning of
+  // them (`comments`: this appender's); "" otherwise.
+  std::string open_existing(const std::vector<std::string>& comments) {
     std::string text;
     {
       std::ifstream in(path_, std::ios::binary);
@@ -168,7 +178,7 @@ class DatasetCsvAppender {
     std::size_t offset = 0;
     if (view.size() >= 3 && view.substr(0, 3) == "\xEF\xBB\xBF") offset = 3;
     std::size_t pos = offset, line_no = 0, header_line = 0;
-    std::size_t header_end = 0;  // offset just past the header line
+    std::size_t header_start = 0, header_end = 0;  // offsets of the header line and just past it
     std::string_view header, unterminated;
     std::size_t unterminated_start = 0;
     std::vector<std::pair<std::string_view, std::size_t>> rows;  // complete data rows and their lines
@@ -185,6 +195,7 @@ class DatasetCsvAppender {
         if (detail::trim_ascii(line).empty() || line.front() == '#') continue;
         header = line;
         header_line = line_no;
+        header_start = line_start;
         header_end = pos;
         continue;
       }
@@ -195,11 +206,42 @@ class DatasetCsvAppender {
         rows.emplace_back(line, line_no);
       }
     }
-    if (header_line == 0)
-      throw ParseError(path_, line_no, "existing file has no header row; cannot append to it");
+    // A creation cut short leaves a beginning of the comments and header,
+    // without a line break or row (a BOM-only file: an empty beginning).
+    const bool ends_unterminated = view.size() > offset && view.back() != '\n';
+    const std::string ours = detail::header_text(comments, columns_);
+    const std::string_view content = view.substr(offset);
+    if (header_line == 0 && content.size() < ours.size() && ours.compare(0, content.size(), content) == 0) {
+      header_completed_ = !content.empty();
+      slots_ = detail::writer_slots(columns_);
+      lines_ = comments.size() + 1;
+      return ours.substr(content.size());
+    }
+    if (header_line == 0) {
+      const std::size_t last = view.rfind('\n');
+      const bool comment_cut = ends_unterminated && view[last == std::string_view::npos ? offset : last + 1] == '#';
+      throw ParseError(path_, line_no,
+                       comment_cut ? "existing file has no header row, and its last line, a comment, has no line "
+                                     "break: the comments may have been cut short while the file was created; "
+                                     "cannot append to it"
+                                   : "existing file has no header row; cannot append to it");
+    }
+    const bool header_last = header_end == view.size() && ends_unterminated;
+    // Or, after comments of its own, a beginning of the header line.
+    const std::string line_ours = detail::header_text({}, columns_);  // with its line break
+    const std::string_view torn = view.substr(header_start);         // as written (a '\r' stays)
+    if (header_last && torn.size() + 1 < line_ours.size() && line_ours.compare(0, torn.size(), torn) == 0) {
+      header_completed_ = true;
+      slots_ = detail::writer_slots(columns_);
+      lines_ = header_line;
+      return line_ours.substr(torn.size());
+    }
     std::vector<std::string_view> header_fields;
     detail::split_fields(header, header_fields);
-    check_header(header_fields, header_line);
+    check_header(header_fields, header_line,
+                 header_last ? "; the header line has no line break and no row follows: it may have been cut "
+                               "short while the file was created, but it does not begin the recorder's header"
+                             : "");
     index_rows(header_fields, rows);
     lines_ = line_no;
     if (unterminated_start > 0) {
@@ -224,7 +266,7 @@ class DatasetCsvAppender {
       std::filesystem::resize_file(path_, unterminated_start, ec);
       if (ec) throw IoError(path_, "cannot cut off a partial last row: " + ec.message());
     }
-    return header_end == view.size() && (view.empty() || view.back() != '\n');
+    return header_last ? "\n" : "";
   }
 
   // Counts the file's complete data rows and records the frame of each in
@@ -253,8 +295,9 @@ class DatasetCsvAppender {
     }
   }
 
-  // `fields`: the header's, found on line `line`.
-  void check_header(const std::vector<std::string_view>& fields, std::size_t line) {
+  // `fields`: the header's, found on line `line`; `note` ends the message of
+  // a mismatch.
+  void check_header(const std::vector<std::string_view>& fields, std::size_t line, const char* note) {
     const auto expected = columns_.names();
     const auto ours = detail::writer_slots(columns_);
     std::set<std::string> want(expected.begin(), expected.end()), seen;
@@ -280,7 +323,7 @@ class DatasetCsvAppender {
       if (!unexpected.empty()) reason += " unexpected " + unexpected + ";";
       if (!duplicate.empty()) reason += " duplicate " + duplicate + ";";
       reason.pop_back();
-      throw ParseError(path_, line, reason);
+      throw ParseError(path_, line, reason + note);
     }
     // Same set of columns: write in the file's order.
     for (auto f : fields) {
@@ -319,6 +362,7 @@ class DatasetCsvAppender {
   std::string row_;
   std::size_t rows_in_file_ = 0;
   std::size_t recovered_bytes_ = 0;
+  bool header_completed_ = false;
   std::uintmax_t size_ = 0;  // bytes in the file after the last complete write
   bool failed_ = false;
   detail::FrameIndex frames_;  // the frame of every row in the file, by line
