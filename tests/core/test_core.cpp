@@ -514,18 +514,19 @@ TEST_CASE("rename_argument_prefix: a plain InvalidArgument whose name starts wit
   CHECK(what([] { rename_argument_prefix("", "options.", [] { throw InvalidArgument("k", "is 0"); }); }) ==
         "plain options.k: is 0");
   // Another name (also a shorter one, and one that only contains the
-  // prefix), a derived error, and another exception pass unchanged.
+  // prefix) and another exception pass unchanged; a derived error is renamed
+  // and keeps its type.
   CHECK(what([] { rename_argument_prefix("settings.", "s.", [] { throw InvalidArgument("settings", "bad"); }); }) ==
         "plain settings: bad");
   CHECK(what([] { rename_argument_prefix("settings.", "s.", [] { throw InvalidArgument("my.settings.k", "bad"); }); }) ==
         "plain my.settings.k: bad");
   CHECK(what([] { rename_argument_prefix("settings.", "s.", [] { throw EmptyInput("settings.points"); }); }) ==
-        "derived settings.points: is empty");
+        "derived s.points: is empty");
   CHECK_THROWS_AS(rename_argument_prefix("settings.", "s.", [] { throw std::out_of_range("settings.x"); }),
                   std::out_of_range);
 }
 
-TEST_CASE("rename_argument: a plain InvalidArgument naming `from` is renamed, everything else passes as it is") {
+TEST_CASE("rename_argument: an InvalidArgument naming `from` is renamed, of its own type; the rest passes as it is") {
   // The value of f is returned, also by reference and for void.
   int calls = 0;
   CHECK(rename_argument("x", "y", [] { return 7; }) == 7);
@@ -556,13 +557,14 @@ TEST_CASE("rename_argument: a plain InvalidArgument naming `from` is renamed, ev
   CHECK(named == 1);
   CHECK(rename_argument("image", name, [] { return 1; }) == 1);
   CHECK(named == 1);
-  // Another argument, or a derived error naming `from`, passes unchanged.
+  // Another argument passes unchanged; a derived error naming `from` is
+  // renamed and keeps its type (test_core_audit3.cpp).
   CHECK(caught([] { rename_argument("image", "images[3]", [] { throw InvalidArgument("settings.k", "is 0"); }); }) ==
         std::pair<std::string, std::string>("InvalidArgument", "settings.k: is 0"));
   CHECK(caught([] { rename_argument("image", "images[3]", [] { throw EmptyInput("image"); }); }) ==
-        std::pair<std::string, std::string>("derived", "image: is empty"));
+        std::pair<std::string, std::string>("derived", "images[3]: is empty"));
   CHECK(caught([] { rename_argument("image", "images[3]", [] { throw DimensionMismatch("image", 84, 83); }); }) ==
-        std::pair<std::string, std::string>("derived", "image: has dimension 83, expected 84"));
+        std::pair<std::string, std::string>("derived", "images[3]: has dimension 83, expected 84"));
   // Nested renames map two names.
   auto both = [](const char* which) {
     rename_argument("settings.voxel", "voxel", [&] {

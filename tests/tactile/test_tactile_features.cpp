@@ -711,8 +711,9 @@ TEST_CASE("extract_features: one column per image, in order, with typed errors")
     CHECK(e.argument() == "images[7]");
     CHECK(std::string(e.what()).find("images[7]: the raw (SiftNormalization::None) histograms") == 0);
   }
-  // Derived errors of a descriptor pass through with their type and text.
-  CHECK_THROWS_WITH_AS(extract_features(RefusesEightRows(), mixed), "image: has eight rows", EmptyInput);
+  // Derived errors of a descriptor keep their type and reason, and name the
+  // image too.
+  CHECK_THROWS_WITH_AS(extract_features(RefusesEightRows(), mixed), "images[1]: has eight rows", EmptyInput);
 }
 
 // ---------------------------------------------------------------------------

@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cstddef>
 #include <cstdio>
+#include <exception>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -36,6 +37,27 @@ class InvalidArgument : public Error {
   const std::string& argument() const noexcept { return argument_; }
   const std::string& reason() const noexcept { return reason_; }
 
+  /// A copy of this error, of its own type (EmptyInput, NonFiniteValue, ...)
+  /// and with its data and reason, that names `argument` instead: what
+  /// rename_argument throws. A class derived from InvalidArgument overrides
+  /// it as the library's do (`return renamed_copy(*this,
+  /// std::move(argument));`); for one that does not, it returns null rather
+  /// than a copy cut down to a base class.
+  virtual std::exception_ptr renamed(std::string argument) const { return renamed_copy(*this, std::move(argument)); }
+
+ protected:
+  /// `e` (of static type E) copied and naming `argument`; null if E is not
+  /// e's dynamic type.
+  template <typename E>
+  static std::exception_ptr renamed_copy(const E& e, std::string argument) {
+    if (typeid(e) != typeid(E)) return nullptr;
+    E copy(e);
+    InvalidArgument& base = copy;
+    base.Error::operator=(Error(argument + ": " + base.reason_));
+    base.argument_ = std::move(argument);
+    return std::make_exception_ptr(std::move(copy));
+  }
+
  private:
   std::string argument_;
   std::string reason_;
@@ -46,6 +68,7 @@ class EmptyInput : public InvalidArgument {
  public:
   explicit EmptyInput(std::string argument, const std::string& what_is_empty = "is empty")
       : InvalidArgument(std::move(argument), what_is_empty) {}
+  std::exception_ptr renamed(std::string argument) const override { return renamed_copy(*this, std::move(argument)); }
 };
 
 /// Two inputs (or an input and a compile-time size) disagree on a dimension.
@@ -58,6 +81,7 @@ class DimensionMismatch : public InvalidArgument {
         actual_(actual) {}
   std::ptrdiff_t expected() const noexcept { return expected_; }
   std::ptrdiff_t actual() const noexcept { return actual_; }
+  std::exception_ptr renamed(std::string argument) const override { return renamed_copy(*this, std::move(argument)); }
 
  private:
   std::ptrdiff_t expected_;
@@ -76,6 +100,7 @@ class NonFiniteValue : public InvalidArgument {
         column_(column) {}
   std::ptrdiff_t row() const noexcept { return row_; }
   std::ptrdiff_t column() const noexcept { return column_; }
+  std::exception_ptr renamed(std::string argument) const override { return renamed_copy(*this, std::move(argument)); }
 
  private:
   std::ptrdiff_t row_;
@@ -93,31 +118,33 @@ std::string argument_name(const Name& name) {
 
 namespace detail {
 
-/// Returns `f()`; an InvalidArgument of exactly that type for whose name
-/// `rename` gives a new one (a std::optional<std::string>) is thrown again
-/// under it, with the same reason. Everything else passes as it is.
+/// Returns `f()`; an InvalidArgument (or an error derived from it) for
+/// whose name `rename` gives a new one (a std::optional<std::string>) is
+/// thrown again under it, of the same type, with the same reason and data
+/// (InvalidArgument::renamed). Everything else passes as it is.
 template <typename F, typename Rename>
 decltype(auto) rename_invalid_argument(F&& f, const Rename& rename) {
   try {
     return std::forward<F>(f)();
   } catch (const InvalidArgument& e) {
-    if (typeid(e) != typeid(InvalidArgument)) throw;
     std::optional<std::string> name = rename(std::string_view(e.argument()));
     if (!name) throw;
-    throw InvalidArgument(std::move(*name), e.reason());
+    const std::exception_ptr copy = e.renamed(std::move(*name));
+    if (!copy) throw;  // of a derived class without its own renamed()
+    std::rethrow_exception(copy);
   }
 }
 
 }  // namespace detail
 
-/// Returns `f()`; an InvalidArgument of exactly that type naming `from` is
-/// thrown again naming `to`, with the same reason. Lets a caller give a
-/// callee's parameter ("image", "settings.voxel") the name its own user
-/// knows ("images[3]", "voxel"). Derived errors (EmptyInput,
-/// DimensionMismatch, NonFiniteValue) and other arguments pass through as
-/// they are. `to` is a string, or a callable returning one, called only
-/// when an error is renamed (so a name such as "images[j]" costs nothing on
-/// the normal path).
+/// Returns `f()`; an InvalidArgument naming `from` is thrown again naming
+/// `to`, with the same reason. Lets a caller give a callee's parameter
+/// ("image", "settings.voxel") the name its own user knows ("images[3]",
+/// "voxel"). Derived errors (EmptyInput, DimensionMismatch, NonFiniteValue)
+/// are renamed too and keep their type and data; other arguments and other
+/// exceptions pass through as they are. `to` is a string, or a callable
+/// returning one, called only when an error is renamed (so a name such as
+/// "images[j]" costs nothing on the normal path).
 template <typename To, typename F>
 decltype(auto) rename_argument(std::string_view from, const To& to, F&& f) {
   return detail::rename_invalid_argument(std::forward<F>(f), [&](std::string_view name) -> std::optional<std::string> {
@@ -126,12 +153,12 @@ decltype(auto) rename_argument(std::string_view from, const To& to, F&& f) {
   });
 }
 
-/// Returns `f()`; an InvalidArgument of exactly that type whose name starts
-/// with `from_prefix` is thrown again with that prefix replaced by
-/// `to_prefix`, with the same reason: a nested settings object's errors
-/// ("settings.leaf_max_size") named as its owner's user set them
-/// ("settings.search.leaf_max_size"). Everything else passes as it is, as
-/// for rename_argument.
+/// Returns `f()`; an InvalidArgument (or derived error, which keeps its
+/// type) whose name starts with `from_prefix` is thrown again with that
+/// prefix replaced by `to_prefix`, with the same reason: a nested settings
+/// object's errors ("settings.leaf_max_size") named as its owner's user set
+/// them ("settings.search.leaf_max_size"). Everything else passes as it is,
+/// as for rename_argument.
 template <typename F>
 decltype(auto) rename_argument_prefix(std::string_view from_prefix, std::string_view to_prefix, F&& f) {
   return detail::rename_invalid_argument(std::forward<F>(f), [&](std::string_view name) -> std::optional<std::string> {

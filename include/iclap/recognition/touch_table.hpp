@@ -216,8 +216,8 @@ inline Index append_free_points(const Frame& frame, double threshold, double pit
 /// frame's orientation that is not a unit quaternion (a hand-built
 /// dataset's; the reader refuses one). What the
 /// descriptor returns is checked as extract_features checks it, naming the
-/// frame (`dataset.frames[I]`): its plain InvalidArgument about "image"
-/// names the frame instead; an empty feature is EmptyInput, a length that
+/// frame (`dataset.frames[I]`): its InvalidArgument (or derived error)
+/// about "image" names the frame instead; an empty feature is EmptyInput, a length that
 /// differs from the first frame's DimensionMismatch, a finite value beyond
 /// float's range (features are kept in float) InvalidArgument, and a NaN or
 /// infinity NonFiniteValue naming "features" (row: coordinate, column: touch).

@@ -113,9 +113,8 @@ template <typename D>
 using FeaturesOf = typename DescriptorTraits<D>::Features;
 
 namespace detail {
-/// `descriptor.compute(image)`, with a plain InvalidArgument about "image"
-/// thrown again naming "images[j]" (same reason). Derived errors keep their
-/// type and pass through.
+/// `descriptor.compute(image)`, with an InvalidArgument about "image"
+/// thrown again naming "images[j]" (same type and reason).
 template <typename D>
 typename DescriptorTraits<D>::Feature compute_naming_image(const D& descriptor, const TactileImage& image, Index j) {
   return rename_argument("image", [j] { return "images[" + std::to_string(j) + "]"; },
@@ -131,11 +130,11 @@ typename DescriptorTraits<D>::Feature compute_naming_image(const D& descriptor, 
 /// when an image's feature length differs from the first one's, and
 /// NonFiniteValue (argument "features", row = coordinate, column = image
 /// index) when the descriptor returns a NaN or infinity, so a broken user
-/// descriptor is caught here rather than inside the codebook. A plain
-/// InvalidArgument the descriptor throws about its "image" (Tactile-SIFT's
-/// raw histograms beyond the feature type) comes out naming "images[J]",
-/// the image's index in the range; anything else it throws passes through
-/// unchanged. O(images x descriptor cost); one allocation for the result.
+/// descriptor is caught here rather than inside the codebook. An
+/// InvalidArgument (or derived error, which keeps its type) the descriptor
+/// throws about its "image" (Tactile-SIFT's raw histograms beyond the
+/// feature type) comes out naming "images[J]", the image's index in the
+/// range; anything else it throws passes through unchanged. O(images x descriptor cost); one allocation for the result.
 template <typename D, typename Range>
 FeaturesOf<D> extract_features(const D& descriptor, const Range& images) {
   using Traits = DescriptorTraits<D>;
