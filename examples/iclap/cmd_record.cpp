@@ -38,6 +38,22 @@ namespace rig = iclap::rig;
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+// Is `path` a regular file holding nothing, or only a UTF-8 byte-order mark
+// (an editor's new file)? Then `size` is its size (0 or 3).
+bool blank_file(const std::string& path, std::uintmax_t& size) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return false;
+  size = fs::file_size(path, ec);
+  if (ec || (size != 0 && size != 3)) return false;
+  if (size == 0) return true;
+  char head[3] = {};
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return false;
+  const bool bom = std::fread(head, 1, 3, f) == 3 && std::memcmp(head, "\xEF\xBB\xBF", 3) == 0;
+  std::fclose(f);
+  return bom;
+}
+
 const std::string kUsage = std::string(
     "usage: iclap record --port PATH --object NAME --exploration K --out FILE.csv\n"
     "                    [--frames N | --seconds S] [--pose SPEC] [--rate R] [--grid ROWSxCOLS]\n"
@@ -229,9 +245,11 @@ int run_record(const Args& args) {
   }
   std::error_code ec;
   const bool existed = fs::exists(out_path, ec);
-  // An existing empty file is treated as new (it gets the header at the
-  // first frame, and is left empty if no frame comes).
-  const bool appending = existed && !(fs::is_regular_file(out_path, ec) && fs::file_size(out_path, ec) == 0 && !ec);
+  // An existing empty file, or one holding only a byte-order mark, is
+  // treated as new (it gets the header at the first frame, after the BOM,
+  // and is left as it was if no frame comes).
+  std::uintmax_t blank_size = 0;
+  const bool appending = existed && !blank_file(out_path, blank_size);
   std::optional<iclap::DatasetCsvAppender> appender;
   const auto open_appender = [&] {
     appender.emplace(out_path, grid.rows, grid.cols, /*time=*/true, poses->has_orientation(), comments);
@@ -241,6 +259,8 @@ int run_record(const Args& args) {
   if (appending) {
     open_appender();
     cut_bytes = appender->recovered_bytes();
+    if (appender->header_completed())
+      std::fprintf(stderr, "iclap record: %s: completed its header, cut short by an earlier run\n", out_path.c_str());
     if (cut_bytes > 0)
       std::fprintf(stderr, "iclap record: %s: cut off a partial last row (%zu bytes) left by an earlier run\n",
                    out_path.c_str(), cut_bytes);
@@ -280,10 +300,10 @@ int run_record(const Args& args) {
     appender->append(row);
     ++recorded;
   };
-  // Syncs the file; a file this run created (or an empty one it wrote the
-  // header into) that got no row is removed (emptied), so a failed or
-  // silent run leaves no header-only file to block the next one. A file
-  // that had content is never removed.
+  // Syncs the file; a file this run created (or an empty or BOM-only one it
+  // wrote the header into) that got no row is removed (emptied, back to its
+  // BOM), so a failed or silent run leaves no header-only file to block the
+  // next one. A file that had content is never removed.
   const auto finish_file = [&] {
     status.finish();
     if (appender) {
@@ -296,7 +316,7 @@ int run_record(const Args& args) {
     if (recorded > 0 || !opened_here) return;
     appender.reset();
     std::error_code rm;
-    if (existed) fs::resize_file(out_path, 0, rm);
+    if (existed) fs::resize_file(out_path, blank_size, rm);
     else fs::remove(out_path, rm);
     if (rm)
       std::fprintf(stderr, "iclap record: warning: %s: cannot remove the file this run created without a row: %s\n",
@@ -307,7 +327,12 @@ int run_record(const Args& args) {
     if (appending && cut_bytes > 0)
       return out_path + " keeps its complete rows; only its partial last row (" + std::to_string(cut_bytes) +
              " bytes) was cut off";
-    return out_path + (appending ? " is unchanged" : existed ? " is left empty" : " was not created");
+    if (appending && appender && appender->header_completed())
+      return out_path + " has no row; only its header, cut short by an earlier run, was completed";
+    return out_path + (appending            ? " is unchanged"
+                       : blank_size > 0     ? " is left as it was (a byte-order mark only)"
+                       : existed            ? " is left empty"
+                                            : " was not created");
   };
   const auto summary = [&](const char* how) {
     if (recorded == 0) {

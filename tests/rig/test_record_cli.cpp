@@ -359,7 +359,9 @@ TEST_CASE("iclap record: a run that records no frame leaves no file behind and e
     CHECK_FALSE(fake.streaming());
   }
   {  // Appending with a silent sensor: exit 1, the file is kept byte for byte;
-     // an existing empty file stays (empty).
+     // an existing empty file stays (empty), and so does one holding only a
+     // byte-order mark (it is a new file, opened at the first frame; it got
+     // a header before session 58).
     iclap::Dataset one;
     one.rows = 14;
     one.cols = 6;
@@ -371,7 +373,8 @@ TEST_CASE("iclap record: a run that records no frame leaves no file behind and e
     one.frames.push_back(f);
     iclap::write_dataset_csv(scratch("kept.csv"), one);
     std::ofstream(scratch("empty.csv")).flush();
-    for (const std::string name : {"kept.csv", "empty.csv"}) {
+    std::ofstream(scratch("bom.csv"), std::ios::binary) << "\xEF\xBB\xBF";
+    for (const std::string name : {"kept.csv", "empty.csv", "bom.csv"}) {
       CAPTURE(name);
       const std::string before = test::read_text(scratch(name));
       FakeSensorScript script;
@@ -385,6 +388,30 @@ TEST_CASE("iclap record: a run that records no frame leaves no file behind and e
       REQUIRE(fs::exists(scratch(name)));
       CHECK(test::read_text(scratch(name)) == before);
     }
+  }
+  {  // A header cut short by an earlier run (killed while creating the file)
+     // is completed, and the run says so (session 58; it was refused as a
+     // header mismatch before).
+    const std::string torn = scratch("torn.csv");
+    std::ofstream(torn, std::ios::binary) << "object,exploration,fr";
+    FakeSensorScript script;
+    script.max_frames = 0;
+    PtyFakeSensor fake(script);
+    auto args = record_args(fake.path(), torn);
+    args.insert(args.end(), {"--seconds", "0.2", "--pose", "fixed:0,0,0"});
+    const auto r = run_iclap(args, scratch);
+    INFO(r.err);
+    CHECK(r.status == 1);
+    CHECK(r.err.find(torn + ": completed its header, cut short by an earlier run") != std::string::npos);
+    CHECK(r.err.find(torn + " has no row; only its header, cut short by an earlier run, was completed") !=
+          std::string::npos);
+    const std::string text = test::read_text(torn);
+    CHECK(text.rfind("object,exploration,frame,t,x,y,z,p0_0,", 0) == 0);
+    CHECK(std::count(text.begin(), text.end(), '\n') == 1);
+    const iclap::Dataset ds = iclap::read_dataset_csv(torn);
+    CHECK(ds.frames.empty());
+    CHECK(ds.rows == 14);
+    CHECK(ds.cols == 6);
   }
   {  // Ctrl-C before the first frame: exit 130, no file.
     FakeSensorScript script;
