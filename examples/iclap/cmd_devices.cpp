@@ -22,7 +22,8 @@ const char* const kUsage =
     "usage: iclap devices [--serial-only | --hid-only] [--dev-root DIR]\n"
     "\n"
     "Lists the serial ports where a Weiss WTS sensor can appear (USB CDC-ACM:\n"
-    "/dev/ttyACM*, also /dev/ttyUSB* and the stable /dev/serial/by-id names)\n"
+    "/dev/ttyACM*, also /dev/ttyUSB* and the stable /dev/serial/by-id names),\n"
+    "each device once with its other names (aliases: udev symlinks, by-id),\n"
     "and the HID devices found by hidapi (foot pedals, stylus buttons,\n"
     "microcontroller bridges). The sensor itself is not a HID device.\n"
     "Says so plainly when nothing is found; exit status 0 either way (but 2 when\n"
@@ -44,6 +45,7 @@ void list_serial(const std::string& root) {
     std::printf("  %s", p.path.c_str());
     if (!p.accessible) std::printf("  [no read/write permission: add your user to the port's group, usually 'dialout']");
     std::printf("\n");
+    for (const auto& alias : p.aliases) std::printf("      alias: %s\n", alias.c_str());
     for (const auto& link : p.by_id) std::printf("      by-id: %s\n", link.c_str());
   }
 }

@@ -20,6 +20,9 @@ struct SerialPortInfo {
   std::string path;                ///< e.g. /dev/ttyACM0
   std::vector<std::string> by_id;  ///< /dev/serial/by-id links to it (stable names), sorted
   bool accessible = false;         ///< the current user may open it for reading and writing
+  /// Other ttyACM*/ttyUSB* names under the device root for the same device
+  /// (symlinks such as a udev alias ttyUSB1 -> ttyACM0), sorted naturally.
+  std::vector<std::string> aliases;
 };
 
 namespace serial_detail {
@@ -48,9 +51,12 @@ inline bool natural_less(const std::string& a, const std::string& b) {
 /// The serial ports under `dev_root` (default /dev) where a WTS sensor or a
 /// USB-serial bridge can appear: ttyACM* and ttyUSB* (not a directory or a
 /// dangling link), plus every target of a `serial/by-id` link (dangling
-/// ones skipped), each with its by-id names. Sorted naturally
-/// (ttyACM2 before ttyACM10). Empty when there are none; never throws for a
-/// missing or unreadable directory. `dev_root` exists for tests.
+/// ones skipped), each with its by-id names. A device is listed once: when
+/// several of these names lead to it, the one that is not a symlink (the
+/// device node itself), else the first in natural order, is its `path` and
+/// the others are its `aliases`. Sorted naturally (ttyACM2 before
+/// ttyACM10). Empty when there are none; never throws for a missing or
+/// unreadable directory. `dev_root` exists for tests.
 inline std::vector<SerialPortInfo> list_serial_ports(const std::string& dev_root = "/dev") {
   namespace fs = std::filesystem;
   std::vector<SerialPortInfo> ports;
@@ -64,9 +70,14 @@ inline std::vector<SerialPortInfo> list_serial_ports(const std::string& dev_root
     const std::string key = canonical_or_self(path).string();
     for (auto& port : ports)
       if (canonical_or_self(port.path).string() == key) return port;
-    ports.push_back(SerialPortInfo{path.string(), {}, false});
+    ports.push_back(SerialPortInfo{path.string(), {}, false, {}});
     return ports.back();
   };
+  struct Name {
+    fs::path path;
+    bool link;
+  };
+  std::vector<Name> names;
   for (fs::directory_iterator it(dev_root, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
     if (!serial_detail::is_candidate_name(name)) continue;
@@ -74,7 +85,19 @@ inline std::vector<SerialPortInfo> list_serial_ports(const std::string& dev_root
     // port, as a dangling by-id link is not; nor is a directory.
     std::error_code e;
     const fs::file_status target = it->status(e);
-    if (!e && fs::exists(target) && !fs::is_directory(target)) find_or_add(it->path());
+    if (e || !fs::exists(target) || fs::is_directory(target)) continue;
+    const bool link = it->is_symlink(e);
+    names.push_back(Name{it->path(), link && !e});
+  }
+  // The device node before its aliases, whatever order the directory lists
+  // them in: the first name of a device is its path, the others aliases.
+  std::sort(names.begin(), names.end(), [](const Name& a, const Name& b) {
+    if (a.link != b.link) return !a.link;
+    return serial_detail::natural_less(a.path.string(), b.path.string());
+  });
+  for (const Name& n : names) {
+    SerialPortInfo& port = find_or_add(n.path);
+    if (port.path != n.path.string()) port.aliases.push_back(n.path.string());
   }
   const fs::path by_id = fs::path(dev_root) / "serial" / "by-id";
   ec.clear();
