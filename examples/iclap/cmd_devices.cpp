@@ -9,6 +9,7 @@
 #include <system_error>
 
 #include "cli.hpp"
+#include "device_listing.hpp"
 #include "iclap/rig/serial_enumeration.hpp"
 #ifdef ICLAP_HAVE_HIDAPI
 #include "iclap/rig/hid_device.hpp"
@@ -41,13 +42,7 @@ void list_serial(const std::string& root) {
     return;
   }
   std::printf("Serial ports (the WTS sensor is USB CDC-ACM, usually ttyACM*):\n");
-  for (const auto& p : ports) {
-    std::printf("  %s", p.path.c_str());
-    if (!p.accessible) std::printf("  [no read/write permission: add your user to the port's group, usually 'dialout']");
-    std::printf("\n");
-    for (const auto& alias : p.aliases) std::printf("      alias: %s\n", alias.c_str());
-    for (const auto& link : p.by_id) std::printf("      by-id: %s\n", link.c_str());
-  }
+  for (const auto& p : ports) std::fputs(serial_port_lines(p).c_str(), stdout);
 }
 
 #ifdef ICLAP_HAVE_HIDAPI
@@ -59,14 +54,7 @@ void list_hid() {
     return;
   }
   std::printf("HID devices (hidapi %s):\n", version.c_str());
-  for (const auto& d : devices) {
-    std::printf("  %s  %04x:%04x", d.path.c_str(), d.vendor_id, d.product_id);
-    const std::string name = d.manufacturer.empty() ? d.product : d.manufacturer + " " + d.product;
-    if (!name.empty()) std::printf("  %s", name.c_str());
-    if (!d.serial_number.empty()) std::printf("  serial %s", d.serial_number.c_str());
-    std::printf("  (usage page 0x%04x, usage 0x%04x, interface %d, %s)\n", d.usage_page, d.usage,
-                d.interface_number, d.bus.c_str());
-  }
+  for (const auto& d : devices) std::fputs(hid_device_line(d).c_str(), stdout);
 }
 #endif
 

@@ -25,6 +25,7 @@
 #include "iclap/core/error.hpp"
 #include "iclap/core/utf8.hpp"
 #include "iclap/rig/byte_stream.hpp"
+#include "iclap/rig/hid_device_info.hpp"
 
 namespace iclap::rig {
 
@@ -76,21 +77,6 @@ class HidLibrary {
     static int c = 0;
     return c;
   }
-};
-
-/// One HID interface as enumerated by hidapi.
-struct HidDeviceInfo {
-  std::string path;  ///< platform path for HidDevice (hidraw: /dev/hidrawN)
-  std::uint16_t vendor_id = 0;
-  std::uint16_t product_id = 0;
-  std::string manufacturer;
-  std::string product;
-  std::string serial_number;
-  std::uint16_t release_number = 0;  ///< BCD
-  std::uint16_t usage_page = 0;
-  std::uint16_t usage = 0;
-  int interface_number = -1;
-  std::string bus;  ///< "usb", "bluetooth", "i2c", "spi" or "unknown"
 };
 
 /// All HID interfaces (or those of one vendor/product; 0 matches any).
