@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "device_listing.hpp"
+#include "iclap/rig/hid_device_info.hpp"
 #include "iclap/rig/serial_enumeration.hpp"
 #include "../support/temporaries.hpp"
 #ifdef ICLAP_CLI_PATH
@@ -75,6 +77,51 @@ TEST_CASE("list_serial_ports: aliases of a device that is no candidate are one p
   REQUIRE(ports.size() == 2);
   CHECK(ports[0].aliases.empty());
   CHECK(ports[1].aliases == std::vector<std::string>{(root / "ttyUSB10").string()});
+}
+
+// Input: the line `iclap devices` prints for a HID device whose strings
+// (the device's own, from hidapi) hold an OSC escape sequence that sets the
+// terminal's title, a line break that starts a forged line, the C1 control
+// CSI (U+009B) and bytes that are not UTF-8.
+// Was: printed raw, so the device drove the terminal and forged output.
+// Now: each such byte written as \xNN (as quote_text writes them); UTF-8
+// names are kept; the line is one line.
+TEST_CASE("iclap devices: HID device strings are printed with control bytes and bad UTF-8 escaped") {
+  HidDeviceInfo d;
+  d.path = "/dev/hidraw3";
+  d.vendor_id = 0x046d;
+  d.product_id = 0xc52b;
+  d.manufacturer = "M\xc3\xbcller\x1b]0;pwned\x07";
+  d.product = "Pedal\r\nHID devices: fake \xc2\x9b" "2J";
+  d.serial_number = "\xff\xfe" "42";
+  d.usage_page = 0x000c;
+  d.usage = 0x0001;
+  d.interface_number = 0;
+  d.bus = "usb";
+  const std::string line = iclap::cli::hid_device_line(d);
+  CHECK(line ==
+        "  /dev/hidraw3  046d:c52b  M\xc3\xbcller\\x1b]0;pwned\\x07 Pedal\\x0d\\x0aHID devices: fake \\xc2\\x9b2J"
+        "  serial \\xff\\xfe42  (usage page 0x000c, usage 0x0001, interface 0, usb)\n");
+  // Plain strings are unchanged.
+  d.manufacturer = "Acme";
+  d.product = "Foot pedal";
+  d.serial_number = "A1";
+  CHECK(iclap::cli::hid_device_line(d) ==
+        "  /dev/hidraw3  046d:c52b  Acme Foot pedal  serial A1  (usage page 0x000c, usage 0x0001, interface 0, usb)\n");
+}
+
+// Input: the lines of a serial port whose by-id and alias names (under a
+// --dev-root of the user's choice) hold an escape sequence and a line break.
+// Was: printed raw.
+// Now: escaped like the HID strings.
+TEST_CASE("iclap devices: serial port names are printed with control bytes escaped") {
+  SerialPortInfo p;
+  p.path = "/dev/ttyACM0";
+  p.accessible = true;
+  p.aliases = {"/dev/ttyUSB\x1b[2J"};
+  p.by_id = {"/dev/serial/by-id/usb-x\nfake"};
+  CHECK(iclap::cli::serial_port_lines(p) ==
+        "  /dev/ttyACM0\n      alias: /dev/ttyUSB\\x1b[2J\n      by-id: /dev/serial/by-id/usb-x\\x0afake\n");
 }
 
 #ifdef ICLAP_CLI_PATH

@@ -230,38 +230,58 @@ std::string format_exact(T v) {
 /// Is `b` a control byte (below 0x20, or 0x7f)?
 inline bool is_control_byte(unsigned char b) { return b < 0x20 || b == 0x7f; }
 
-/// `text` quoted for an error message: 'text', with every control byte
-/// (below 0x20, and 0x7f) and every byte that is not part of a well-formed
-/// UTF-8 sequence (a Latin-1 \xe4, a cut character) written as \xNN, so a
-/// NUL in the input cannot cut a message short, a carriage return cannot
-/// overwrite it on a terminal, and the message is UTF-8 whatever the input.
-/// Well-formed UTF-8 characters (names like "zange_m\xc3\xbcller") are
+/// `text` for a message or a terminal, unquoted: every control character
+/// (the bytes below 0x20 and 0x7f, and the C1 controls U+0080..U+009F, such
+/// as U+009B, which some terminals take for an escape sequence) and every
+/// byte that is not part of a well-formed UTF-8 sequence (a Latin-1 \xe4, a
+/// cut character) written as \xNN, so a NUL in the input cannot cut a
+/// message short, a carriage return cannot overwrite it on a terminal, a
+/// line break cannot forge a line, and the text is UTF-8 whatever the
+/// input. Other UTF-8 characters (names like "zange_m\xc3\xbcller") are
 /// kept. With `max_bytes` > 0, a longer text is cut after at most max_bytes
 /// of its bytes (never inside a character) and ends in "...".
-inline std::string quote_text(std::string_view text, std::size_t max_bytes = 0) {
+inline std::string escape_text(std::string_view text, std::size_t max_bytes = 0) {
   const bool cut = max_bytes > 0 && text.size() > max_bytes;
   const std::size_t limit = cut ? max_bytes : text.size();
   static constexpr char kHex[] = "0123456789abcdef";
-  std::string out = "'";
+  std::string out;
+  const auto hex = [&](char c) {
+    const auto b = static_cast<unsigned char>(c);
+    out += "\\x";
+    out += kHex[b >> 4];
+    out += kHex[b & 0xf];
+  };
   for (std::size_t i = 0; i < limit;) {
     const std::size_t n = utf8_sequence_length(text, i);
     if (n > 1) {  // a whole character, kept if it fits
       if (i + n > limit) break;
-      out.append(text.substr(i, n));
+      // C2 80..C2 9F: a C1 control, escaped as its two bytes.
+      const bool c1 = n == 2 && static_cast<unsigned char>(text[i]) == 0xC2 &&
+                      static_cast<unsigned char>(text[i + 1]) < 0xA0;
+      if (c1) {
+        hex(text[i]);
+        hex(text[i + 1]);
+      } else {
+        out.append(text.substr(i, n));
+      }
       i += n;
       continue;
     }
-    const auto b = static_cast<unsigned char>(text[i]);
-    if (n == 0 || is_control_byte(b)) {
-      out += "\\x";
-      out += kHex[b >> 4];
-      out += kHex[b & 0xf];
+    if (n == 0 || is_control_byte(static_cast<unsigned char>(text[i]))) {
+      hex(text[i]);
     } else {
       out += text[i];
     }
     ++i;
   }
-  return out + (cut ? "...'" : "'");
+  return cut ? out + "..." : out;
+}
+
+/// `text` quoted for an error message: 'text', escaped as escape_text
+/// writes it (control characters and bytes that are not UTF-8 as \xNN;
+/// with `max_bytes` > 0 cut after at most max_bytes bytes, ending in "...").
+inline std::string quote_text(std::string_view text, std::size_t max_bytes = 0) {
+  return "'" + escape_text(text, max_bytes) + "'";
 }
 
 }  // namespace iclap
