@@ -43,6 +43,14 @@ class UsageError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// `--help` or `-h` among a command's options: thrown by Options, before
+/// any other check of the line; the program prints the command's usage and
+/// exits with status 0.
+class HelpRequested : public std::exception {
+ public:
+  const char* what() const noexcept override { return "help requested"; }
+};
+
 using Args = std::vector<std::string>;
 
 /// A subcommand: `iclap NAME ARGS...`.
@@ -72,11 +80,15 @@ struct Registrar {
 /// Parsed options of one subcommand. Options are `--name VALUE`,
 /// `--name=VALUE` or, for flags, `--name`; everything else is positional
 /// (`--` ends the options). Unknown options, and a value option given twice,
-/// are a UsageError that names them (a flag may be repeated).
+/// are a UsageError that names them (a flag may be repeated). `--help` or
+/// `-h` where an option may stand throws HelpRequested, whatever else the
+/// line holds; as the value of an option (`--out -h`) or after `--` it is
+/// no request for help.
 class Options {
  public:
   Options(const Args& args, const std::set<std::string>& value_options,
           const std::set<std::string>& flags = {}) {
+    if (asks_for_help(args, value_options)) throw HelpRequested();
     bool options_done = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
       const std::string& a = args[i];
@@ -243,6 +255,21 @@ class Options {
   }
 
  private:
+  // Is --help or -h among the options? The argument after `--name` (a value
+  // option, without "=") is its value, as the parse below takes it: `-h`
+  // there is a value, `--help` a missing value (no value starts with "--").
+  static bool asks_for_help(const Args& args, const std::set<std::string>& value_options) {
+    for (std::size_t i = 0; i < args.size(); ++i) {
+      const std::string& a = args[i];
+      if (a == "--") return false;
+      if (a == "--help" || a == "-h") return true;
+      if (a.size() > 2 && a.compare(0, 2, "--") == 0 && a.find('=') == std::string::npos &&
+          value_options.count(a.substr(2)))
+        ++i;
+    }
+    return false;
+  }
+
   static bool starts_with_space(const std::string& text) {
     return !text.empty() && std::isspace(static_cast<unsigned char>(text.front())) != 0;
   }

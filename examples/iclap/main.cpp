@@ -80,16 +80,14 @@ int main(int argc, char** argv) {
     return kExitBadInput;
   }
   const Args args(argv + 2, argv + argc);
-  // -h as after the program's name ("iclap evaluate -h" took it for a file),
-  // among the options: after "--", which ends them, it is an operand.
-  const auto options_end = std::find(args.begin(), args.end(), "--");
-  if (std::find(args.begin(), options_end, "--help") != options_end ||
-      std::find(args.begin(), options_end, "-h") != options_end) {
-    std::printf("%s\n", it->usage.c_str());
-    return flushed("iclap " + name, kExitOk);
-  }
   try {
     return flushed("iclap " + name, it->run(args));
+  } catch (const HelpRequested&) {
+    // --help or -h (as after the program's name) among the options, found by
+    // the command's Options: not the value of an option (`--out -h`), nor
+    // an operand after "--".
+    std::printf("%s\n", it->usage.c_str());
+    return flushed("iclap " + name, kExitOk);
   } catch (const UsageError& e) {
     // The message, then only the synopsis: the whole option list would
     // scroll the message off the terminal.

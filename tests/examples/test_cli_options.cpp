@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,35 @@ TEST_CASE("options: unknown options, missing and empty values are refused, namin
   CHECK(refusal({"--out="}) == "option --out: empty value");
   CHECK(refusal({"--out", ""}) == "option --out: empty value");
   CHECK(refusal({"--k", "1", "--out", "d"}) == "(no error)");
+}
+
+// Input: `--out -h` and `--out --help` (also the `iclap` runs in
+// tests/examples/CMakeLists.txt, cli_help_as_option_value and neighbours).
+// Was: main took any -h or --help before "--" for a request for help:
+// usage printed, exit status 0, the run not done.
+// Now: Options decides. The argument after a value option is its value:
+// -h is one (as -3 is), --help a missing value, as --k is; -h or --help
+// where an option may stand asks for help (HelpRequested), whatever else
+// the line holds; after "--" they are operands.
+TEST_CASE("options: -h as the value of an option is its value; -h or --help elsewhere asks for help") {
+  using iclap::cli::HelpRequested;
+  CHECK(Options({"--out", "-h"}, {"out"}).string("out") == "-h");
+  CHECK(Options({"a.csv", "--out", "-h", "--k", "2"}, {"out", "k"}).string("out") == "-h");
+  CHECK(refusal({"--out", "--help"}) == "option --out needs a value (got the option '--help')");
+  CHECK(Options({"--out=--help"}, {"out"}).string("out") == "--help");
+  CHECK(Options({"--", "-h", "--help"}, {"out"}).positional() == std::vector<std::string>{"-h", "--help"});
+  const std::set<std::string> values = {"out", "k"};
+  for (const Args& args : std::vector<Args>{{"-h"},
+                                            {"--help"},
+                                            {"a.csv", "--out", "d", "-h"},
+                                            {"--out", "-h", "--help"},
+                                            {"--json", "-h"},
+                                            {"--no-such-option", "-h"},  // help first, the error after
+                                            {"--k", "x", "--help", "--", "b"}}) {
+    const std::string line = Options::join(args, " ");
+    CAPTURE(line);
+    CHECK_THROWS_AS(Options(args, values, {"json"}), HelpRequested);
+  }
 }
 
 TEST_CASE("options: a value option given twice is refused, naming both values; a flag may repeat") {
