@@ -67,6 +67,8 @@ struct Measure {
   double same = 0;  // fraction of decisions equal to those of every registration run to the end
 };
 
+const char* const kUsage = "usage: scaling_study [--sizes 20,100,500] [--out DIR]\n";
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -82,8 +84,11 @@ int main(int argc, char** argv) {
         sizes.push_back(static_cast<std::size_t>(cli::Options::parse_integer(item, "--sizes", 2, 1000000)));
     }
     bench::check_out_dir(out);
+  } catch (const cli::HelpRequested&) {  // --help or -h
+    std::printf("%s", kUsage);
+    return 0;
   } catch (const cli::UsageError& e) {
-    std::fprintf(stderr, "scaling_study: %s\nusage: scaling_study [--sizes 20,100,500] [--out DIR]\n", e.what());
+    std::fprintf(stderr, "scaling_study: %s\n%s", e.what(), kUsage);
     return 2;
   }
   using Schedule = PruningSettings::Schedule;

@@ -193,6 +193,9 @@ int run(int argc, char** argv) {
     cv.repeats = static_cast<int>(opt.integer("repeats", 10, 1, 100000));
     cv.threads = static_cast<int>(opt.integer("threads", 0, 0, 4096));
     bench::check_out_dir(out);
+  } catch (const cli::HelpRequested&) {  // --help or -h
+    std::printf("%s", kUsage);
+    return 0;
   } catch (const cli::UsageError& e) {
     std::fprintf(stderr, "shape_bound: %s\n%s", e.what(), kUsage);
     return 2;

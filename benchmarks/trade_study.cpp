@@ -255,6 +255,9 @@ int main(int argc, char** argv) {
     repeats = static_cast<int>(opt.integer("repeats", repeats, 1, 1000));
     if (opt.has("only")) only = cli::Options::split(opt.string("only"), ',');
     bench::check_out_dir(out);
+  } catch (const cli::HelpRequested&) {  // --help or -h
+    std::printf("%s", kUsage);
+    return 0;
   } catch (const cli::UsageError& e) {
     std::fprintf(stderr, "trade_study: %s\n%s", e.what(), kUsage);
     return 2;
