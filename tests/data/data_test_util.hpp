@@ -22,4 +22,17 @@ inline std::string writer_refusal(const Dataset& d) {
   return what;
 }
 
+/// The 1 x 2 frame the appender cases append: object "b", exploration 4,
+/// frame 1, at (1, 2, 3), pressures 5 and 6.
+inline Frame appended_frame() {
+  Frame f;
+  f.object = "b";
+  f.exploration = 4;
+  f.frame = 1;
+  f.position = {1, 2, 3};
+  f.pressures.resize(1, 2);
+  f.pressures << 5, 6;
+  return f;
+}
+
 }  // namespace iclap::test

@@ -37,19 +37,7 @@ std::string fixture(const std::string& name) { return std::string(ICLAP_TEST_FIX
 
 using iclap::test::slurp;
 using iclap::test::spit;
-
-/// The 1 x 2 frame the appender cases append: object "b", exploration 4,
-/// frame 1, at (1, 2, 3), pressures 5 and 6.
-Frame appended_frame() {
-  Frame f;
-  f.object = "b";
-  f.exploration = 4;
-  f.frame = 1;
-  f.position = {1, 2, 3};
-  f.pressures.resize(1, 2);
-  f.pressures << 5, 6;
-  return f;
-}
+using iclap::test::appended_frame;
 
 Dataset read_text(const std::string& text, std::vector<DatasetWarning>* warnings = nullptr) {
   std::istringstream in(text);

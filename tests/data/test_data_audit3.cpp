@@ -12,6 +12,7 @@
 
 #include "iclap/data/data.hpp"
 #include "../support/temporaries.hpp"
+#include "data_test_util.hpp"
 
 namespace {
 
@@ -23,16 +24,7 @@ using iclap::test::TempDir;
 const std::string kBom = "\xEF\xBB\xBF";
 const std::string kHeader = "object,exploration,frame,x,y,z,p0_0,p0_1";  // of a 1x2 grid, no t, no quaternion
 
-Frame one_frame() {
-  Frame f;
-  f.object = "b";
-  f.exploration = 4;
-  f.frame = 1;
-  f.position = {1, 2, 3};
-  f.pressures.resize(1, 2);
-  f.pressures << 5, 6;
-  return f;
-}
+using iclap::test::appended_frame;
 
 // The ParseError a 1x2 appender with `comments` throws on `path` ("(none)"
 // if it opens), and checks that the file is unchanged.
@@ -65,7 +57,7 @@ TEST_CASE("audit: appender treats a file holding only a BOM as an empty one") {
     CHECK(app.rows_in_file() == 0);
     CHECK(app.recovered_bytes() == 0);
     CHECK(!app.header_completed());
-    app.append(one_frame());
+    app.append(appended_frame());
   } catch (const iclap::Error& e) {
     FAIL_CHECK("appender refused a BOM-only file: " << std::string(e.what()));
   }
@@ -86,7 +78,7 @@ TEST_CASE("audit: appender treats a file holding only a BOM as an empty one") {
 // rest is appended, nothing is cut) and header_completed() says so.
 TEST_CASE("audit: appender completes a header cut short at creation") {
   TempDir dir("audit_h58c_torn");
-  const Frame f = one_frame();
+  const Frame f = appended_frame();
   const std::string row = "b,4,1,1,2,3,5,6\n";
   struct Case {
     std::string text;                   // the file as the killed run left it
