@@ -2,7 +2,7 @@
 #pragma once
 // Small helpers shared by the rig tests: hex dumps, random frames and
 // replies (through iclap::Rng, fixed seeds), message comparison, an
-// in-memory byte stream.
+// in-memory byte stream, a one-frame dataset for the recorder's cases.
 
 #include <algorithm>
 #include <chrono>
@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "iclap/core/random.hpp"
+#include "iclap/data/dataset.hpp"
 #include "iclap/rig/byte_stream.hpp"
 #include "iclap/rig/wts_message.hpp"
 
@@ -120,6 +121,22 @@ inline bool same(const WtsMessage& a, const WtsMessage& b) {
 inline Bytes encode(const WtsMessage& m) {
   if (const auto* f = std::get_if<TactileFrame>(&m)) return encode_frame(*f);
   return encode_reply(std::get<Reply>(m));
+}
+
+/// A dataset of one all-zero 14 x 6 frame of mug, exploration 2, at time 1
+/// s (what `iclap record --object mug --exploration 2` appends to).
+inline Dataset one_mug_frame(std::int64_t frame) {
+  Dataset one;
+  one.rows = 14;
+  one.cols = 6;
+  Frame f;
+  f.object = "mug";
+  f.exploration = 2;
+  f.frame = frame;
+  f.time = 1.0;
+  f.pressures = Eigen::MatrixXd::Zero(14, 6);
+  one.frames.push_back(f);
+  return one;
 }
 
 }  // namespace iclap::rig::test

@@ -21,6 +21,7 @@
 #include "iclap/data/csv_reader.hpp"
 #include "iclap/data/csv_writer.hpp"
 #include "process_util.hpp"
+#include "rig_test_util.hpp"
 
 using namespace iclap::rig;
 using namespace std::chrono_literals;
@@ -362,16 +363,7 @@ TEST_CASE("iclap record: a run that records no frame leaves no file behind and e
      // an existing empty file stays (empty), and so does one holding only a
      // byte-order mark (it is a new file, opened at the first frame; it got
      // a header before session 58).
-    iclap::Dataset one;
-    one.rows = 14;
-    one.cols = 6;
-    iclap::Frame f;
-    f.object = "mug";
-    f.exploration = 2;
-    f.time = 1.0;
-    f.pressures = Eigen::MatrixXd::Zero(14, 6);
-    one.frames.push_back(f);
-    iclap::write_dataset_csv(scratch("kept.csv"), one);
+    iclap::write_dataset_csv(scratch("kept.csv"), test::one_mug_frame(0));
     std::ofstream(scratch("empty.csv")).flush();
     std::ofstream(scratch("bom.csv"), std::ios::binary) << "\xEF\xBB\xBF";
     for (const std::string name : {"kept.csv", "empty.csv", "bom.csv"}) {

@@ -28,6 +28,7 @@
 #ifdef ICLAP_CLI_PATH
 #include "fake_wts_sensor.hpp"
 #include "process_util.hpp"
+#include "rig_test_util.hpp"
 #endif
 
 using namespace iclap::rig;
@@ -84,20 +85,7 @@ struct Scratch57 : test::ScratchDir {
 std::vector<std::string> record_args57(const std::string& port, const std::string& out) {
   return {"record", "--port", port, "--object", "mug", "--exploration", "2", "--out", out};
 }
-// A dataset of one all-zero 14 x 6 frame of mug, exploration 2.
-iclap::Dataset one_mug_frame(std::int64_t frame) {
-  iclap::Dataset one;
-  one.rows = 14;
-  one.cols = 6;
-  iclap::Frame f;
-  f.object = "mug";
-  f.exploration = 2;
-  f.frame = frame;
-  f.time = 1.0;
-  f.pressures = Eigen::MatrixXd::Zero(14, 6);
-  one.frames.push_back(f);
-  return one;
-}
+using test::one_mug_frame;
 bool sent_start(const test::PtyFakeSensor& fake) {
   for (auto id : fake.command_ids())
     if (id == wts_id::kStartPeriodicFrames) return true;
