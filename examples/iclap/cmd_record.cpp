@@ -22,6 +22,7 @@
 
 #include "cli.hpp"
 #include "iclap/core/error.hpp"
+#include "iclap/core/utf8.hpp"
 #include "iclap/core/version.hpp"
 #include "iclap/data/csv_appender.hpp"
 #include "iclap/data/csv_reader.hpp"
@@ -49,7 +50,7 @@ bool blank_file(const std::string& path, std::uintmax_t& size) {
   char head[3] = {};
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) return false;
-  const bool bom = std::fread(head, 1, 3, f) == 3 && std::memcmp(head, "\xEF\xBB\xBF", 3) == 0;
+  const bool bom = std::fread(head, 1, 3, f) == 3 && std::string_view(head, 3) == iclap::kUtf8Bom;
   std::fclose(f);
   return bom;
 }

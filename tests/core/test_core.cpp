@@ -28,6 +28,7 @@
 #include "iclap/core/progress.hpp"
 #include "iclap/core/random.hpp"
 #include "iclap/core/rotation.hpp"
+#include "iclap/core/utf8.hpp"
 #include "iclap/io/atomic_file.hpp"
 #include "../support/file_size_limit.hpp"
 #include "../support/temporaries.hpp"
@@ -199,6 +200,26 @@ std::vector<std::string> names_in(const std::filesystem::path& dir, const std::s
 }
 using iclap::test::slurp;
 }  // namespace
+
+TEST_CASE("utf8_bom_length / without_utf8_bom: one leading byte-order mark, nothing else") {
+  using namespace std::string_literals;
+  static_assert(utf8_bom_length("\xEF\xBB\xBFx") == 3 && without_utf8_bom("\xEF\xBB\xBFx") == "x");
+  CHECK(kUtf8Bom.size() == 3);
+  CHECK(utf8_bom_length("") == 0);
+  CHECK(utf8_bom_length("\xEF\xBB\xBF") == 3);
+  CHECK(without_utf8_bom("\xEF\xBB\xBF").empty());
+  // A mark cut short, a byte off, a mark not at the start: not a mark.
+  CHECK(utf8_bom_length("\xEF") == 0);
+  CHECK(utf8_bom_length("\xEF\xBB") == 0);
+  CHECK(utf8_bom_length("\xEF\xBB\xBE") == 0);
+  CHECK(utf8_bom_length("\xBB\xBF") == 0);
+  CHECK(utf8_bom_length(" \xEF\xBB\xBF") == 0);
+  CHECK(without_utf8_bom("a\xEF\xBB\xBF") == "a\xEF\xBB\xBF");
+  // Only the first of two marks is skipped: the second is text (U+FEFF).
+  CHECK(without_utf8_bom("\xEF\xBB\xBF\xEF\xBB\xBFv 1 2 3") == "\xEF\xBB\xBFv 1 2 3");
+  // A NUL after the mark is text too.
+  CHECK(without_utf8_bom("\xEF\xBB\xBF\0x"s) == "\0x"s);
+}
 
 TEST_CASE("AtomicFileWriter: all or nothing") {
   const std::string path = "iclap_test_atomic.txt";

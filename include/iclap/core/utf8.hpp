@@ -78,4 +78,23 @@ inline std::size_t utf8_error(std::string_view text) noexcept {
   return std::string_view::npos;
 }
 
+/// The UTF-8 encoding of U+FEFF, the byte-order mark an editor may write at
+/// the start of a UTF-8 text file. Every reader of text files here (OBJ,
+/// ASCII STL, the mesh manifest, the dataset CSV and its appender, point
+/// files) skips one at the start, and only there.
+inline constexpr std::string_view kUtf8Bom{"\xEF\xBB\xBF", 3};
+
+/// 3 when `text` starts with a UTF-8 byte-order mark, else 0: the offset of
+/// the text proper. A second mark after the first is the text's first
+/// character, not skipped.
+constexpr std::size_t utf8_bom_length(std::string_view text) noexcept {
+  return text.substr(0, kUtf8Bom.size()) == kUtf8Bom ? kUtf8Bom.size() : 0;
+}
+
+/// `text` without its leading UTF-8 byte-order mark, if it has one.
+constexpr std::string_view without_utf8_bom(std::string_view text) noexcept {
+  text.remove_prefix(utf8_bom_length(text));
+  return text;
+}
+
 }  // namespace iclap

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "iclap/core/error.hpp"
+#include "iclap/core/utf8.hpp"
 #include "iclap/data/csv_common.hpp"
 #include "iclap/data/csv_reader.hpp"
 #include "iclap/data/csv_writer.hpp"
@@ -175,8 +176,7 @@ class DatasetCsvAppender {
       if (in.bad()) throw IoError(path_, "read failed");
     }
     std::string_view view(text);
-    std::size_t offset = 0;
-    if (view.size() >= 3 && view.substr(0, 3) == "\xEF\xBB\xBF") offset = 3;
+    const std::size_t offset = utf8_bom_length(view);
     std::size_t pos = offset, line_no = 0, header_line = 0;
     std::size_t header_start = 0, header_end = 0;  // offsets of the header line and just past it
     std::string_view header, unterminated;

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "iclap/core/error.hpp"
+#include "iclap/core/utf8.hpp"
 #include "iclap/data/csv_common.hpp"
 #include "iclap/data/dataset.hpp"
 
@@ -96,9 +97,7 @@ inline std::string quote_name(std::string_view s) { return quote_text(s, 60); }
 /// The whole reader: `text` is the file content, `name` its display name.
 inline Dataset parse_dataset_csv(std::string_view text, const std::string& name,
                                  std::vector<DatasetWarning>& warnings) {
-  if (text.size() >= 3 && static_cast<unsigned char>(text[0]) == 0xEF &&
-      static_cast<unsigned char>(text[1]) == 0xBB && static_cast<unsigned char>(text[2]) == 0xBF)
-    text.remove_prefix(3);
+  text = without_utf8_bom(text);
 
   Dataset ds;
   std::size_t pos = 0;

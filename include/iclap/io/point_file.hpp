@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 
 #include "iclap/core/error.hpp"
+#include "iclap/core/utf8.hpp"
 
 namespace iclap {
 
@@ -47,7 +48,7 @@ inline Eigen::MatrixXd read_point_file(std::istream& in, const std::string& name
   std::vector<std::string> tokens;
   while (std::getline(in, line)) {
     ++line_no;
-    if (line_no == 1 && line.size() >= 3 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
+    if (line_no == 1) line.erase(0, utf8_bom_length(line));
     if (!line.empty() && line.back() == '\r') line.pop_back();
     // A carriage return left inside the line is a line break of another
     // system (old Mac files): read as a space, it made the whole file one

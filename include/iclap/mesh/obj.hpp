@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "iclap/core/error.hpp"
+#include "iclap/core/utf8.hpp"
 #include "iclap/mesh/io_common.hpp"
 #include "iclap/mesh/triangle_mesh.hpp"
 
@@ -19,7 +20,7 @@ namespace iclap {
 namespace detail {
 
 inline TriangleMesh parse_obj(std::string_view text, const std::string& name) {
-  if (starts_with(text, "\xEF\xBB\xBF")) text.remove_prefix(3);
+  text = without_utf8_bom(text);
   std::vector<double> v;  // x,y,z triples
   std::vector<int> tri;   // index triples
   std::vector<std::pair<std::int64_t, std::size_t>> forward;  // (index, line) defined later

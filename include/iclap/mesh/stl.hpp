@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "iclap/core/error.hpp"
+#include "iclap/core/utf8.hpp"
 #include "iclap/mesh/io_common.hpp"
 #include "iclap/mesh/triangle_mesh.hpp"
 
@@ -219,8 +220,7 @@ inline TriangleMesh parse_stl(std::string_view data, const std::string& name) {
                          data.size() == 84 + std::uint64_t{50} * read_le_u32(reinterpret_cast<const unsigned char*>(data.data()) + 80);
   if (size_fits && !looks_like_ascii_stl(data)) return parse_stl_binary(data, name);
   // ASCII, after a UTF-8 byte-order mark if an editor wrote one (as load_obj).
-  std::string_view text = data;
-  if (starts_with(text, "\xEF\xBB\xBF")) text.remove_prefix(3);
+  const std::string_view text = without_utf8_bom(data);
   std::size_t i = 0;
   while (i < text.size() && is_space(text[i])) ++i;
   // A file starting with "solid" that holds a byte no text holds is a

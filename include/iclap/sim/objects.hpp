@@ -69,7 +69,7 @@ class ManifestParser {
   std::map<std::string, double> parse() {
     std::map<std::string, double> scales;
     std::map<std::string, std::size_t> entry_lines;  // file -> line of its entry
-    if (t_.substr(0, 3) == "\xEF\xBB\xBF") i_ = 3;  // a UTF-8 byte-order mark, as an editor may write
+    i_ = utf8_bom_length(t_);  // a byte-order mark, as an editor may write
     ws();
     expect('[');
     ws();
