@@ -167,6 +167,82 @@ TEST_CASE("convex hull: cube with interior points, random clouds") {
   CHECK_THROWS_AS(iclap::convex_hull(flat), iclap::InvalidArgument);
 }
 
+// convex_hull checks its result: no input point more than the tolerance in
+// front of a hull face. The check skips faces for points clearly behind them
+// (a ball tree); it must decide exactly as the dense products did, and report
+// the same worst value when it fails.
+TEST_CASE("convex hull: the point-in-front check decides as the dense products do") {
+  // Agreement with the dense reference: the same pass/fail, and on a fail
+  // the same worst value (the dense worst is never skipped).
+  auto agree = [](const Eigen::MatrixX3d& normals, const Eigen::VectorXd& offsets, const Eigen::Matrix3Xd& points,
+                  double tolerance) {
+    const double dense = iclap::detail::worst_point_in_front_dense(normals, offsets, points);
+    const double fast = iclap::detail::worst_point_in_front(normals, offsets, points, tolerance);
+    CAPTURE(points.cols());
+    CAPTURE(dense);
+    CAPTURE(fast);
+    CHECK((dense <= tolerance) == (fast <= tolerance));
+    if (!(dense <= tolerance)) CHECK(fast == dense);
+    return fast;
+  };
+  // The faces of the box [0, 1]^3, tolerance 1e-6: the point (-x, 0.5, 0.5)
+  // is exactly x in front of the face x = 0 (normal -x, offset 0).
+  Eigen::MatrixX3d box_normals(6, 3);
+  box_normals << -1, 0, 0, 1, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, -1, 0, 0, 1;
+  Eigen::VectorXd box_offsets(6);
+  box_offsets << 0, 1, 0, 1, 0, 1;
+  const double tolerance = 1e-6;
+  const double beyond = std::nextafter(tolerance, 1.0);
+  iclap::Rng rng(59);
+  for (const iclap::Index n : {1, 3, 31, 32, 33, 100, 1000, 1001}) {
+    Eigen::Matrix3Xd pts(3, n);
+    for (iclap::Index i = 0; i < n; ++i) pts.col(i) = Eigen::Vector3d(rng.uniform(), rng.uniform(), rng.uniform());
+    CHECK(agree(box_normals, box_offsets, pts, tolerance) <= tolerance);
+    const auto at = static_cast<iclap::Index>(rng.uniform() * static_cast<double>(n)) % n;
+    pts.col(at) = Eigen::Vector3d(-tolerance, 0.5, 0.5);
+    CHECK(agree(box_normals, box_offsets, pts, tolerance) == tolerance);  // at the tolerance: passes
+    pts(0, at) = -beyond;
+    CHECK(agree(box_normals, box_offsets, pts, tolerance) == beyond);  // just beyond: fails
+    pts(0, at) = 4;
+    CHECK(agree(box_normals, box_offsets, pts, tolerance) == 3);  // far in front of x = 1
+  }
+  // Many equal points (leaves of radius 0), at the tolerance, then beyond.
+  Eigen::Matrix3Xd same(3, 1000);
+  same.colwise() = Eigen::Vector3d(0.5, 0.5, 1 + tolerance / 2);
+  CHECK(agree(box_normals, box_offsets, same, tolerance) <= tolerance);
+  same.colwise() = Eigen::Vector3d(0.5, -tolerance, 0.5);
+  CHECK(agree(box_normals, box_offsets, same, tolerance) == tolerance);
+  same.col(777) = Eigen::Vector3d(0.5, -beyond, 0.5);
+  CHECK(agree(box_normals, box_offsets, same, tolerance) == beyond);
+
+  // Random hulls: points on and inside, some pushed out along a face normal
+  // by about the tolerance (0.5 to 2 times it), others far.
+  for (int trial = 0; trial < 20; ++trial) {
+    const iclap::Index n = 50 + static_cast<iclap::Index>(rng.uniform() * 3000);
+    Eigen::Matrix3Xd cloud(3, n);
+    for (iclap::Index i = 0; i < n; ++i)
+      cloud.col(i) = random_unit(rng) * std::pow(rng.uniform(), 0.1) + Eigen::Vector3d(trial, 0, 0);
+    const auto hull = iclap::convex_hull(cloud);
+    const iclap::Index h = hull.triangle_count();
+    Eigen::MatrixX3d normals(h, 3);
+    Eigen::VectorXd offsets(h);
+    for (iclap::Index t = 0; t < h; ++t) {
+      const Eigen::Vector3d u = hull.area_normal(t).normalized();
+      normals.row(t) = u.transpose();
+      offsets[t] = u.dot(hull.corner(t, 0));
+    }
+    const double tol = 1e-6 * 2;
+    agree(normals, offsets, cloud, tol);
+    for (int k = 0; k < 5; ++k) {
+      const auto i = static_cast<iclap::Index>(rng.uniform() * static_cast<double>(n)) % n;
+      const auto t = static_cast<iclap::Index>(rng.uniform() * static_cast<double>(h)) % h;
+      const double out = trial % 5 == 4 ? 0.1 : tol * (0.5 + 1.5 * rng.uniform());
+      cloud.col(i) = (hull.corner(t, 0) + hull.corner(t, 1) + hull.corner(t, 2)) / 3 + out * normals.row(t).transpose();
+      agree(normals, offsets, cloud, tol);
+    }
+  }
+}
+
 TEST_CASE("placement: a box in any pose lies on its largest face, axes along x and y") {
   iclap::Rng rng(11);
   for (int trial = 0; trial < 10; ++trial) {
