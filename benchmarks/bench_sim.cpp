@@ -3,7 +3,8 @@
 // Rig simulator speed. Targets: the default 20-object dataset in under 10 s
 // on one core, the 25 shared meshes (load + placement + simulation) in under
 // 30 s. Baselines measured in the same run: the rig itself (5 frames/s,
-// counter `x_realtime`) and brute-force ray casting beside the BVH.
+// counter `x_realtime`), brute-force ray casting beside the BVH and the
+// dense convex hull check beside the ball tree.
 //
 //   <build>/benchmarks/bench_sim --benchmark_counters_tabular=true
 
@@ -165,6 +166,53 @@ void BM_RayBruteForce(benchmark::State& state) {
   state.counters["rays_per_s"] = benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_RayBruteForce)->Unit(benchmark::kMicrosecond);
+
+// convex_hull's result check (no input point more than 1e-6 of the extent in
+// front of a hull face) on the largest shared mesh (27k vertices, 3.8k hull
+// triangles): the ball tree against the dense products it replaced.
+struct HullCheckFixture {
+  Eigen::Matrix3Xd points;
+  Eigen::MatrixX3d normals;
+  Eigen::VectorXd offsets;
+  double tolerance = 0;
+  HullCheckFixture() {
+    const std::string path = shared_meshes() + "/wt_clamp.ply";
+    points = std::filesystem::exists(path) ? iclap::load_mesh(path).vertices : iclap::make_sphere(0.05, 128, 64).vertices;
+    const iclap::TriangleMesh hull = iclap::convex_hull(points);
+    normals.resize(hull.triangle_count(), 3);
+    offsets.resize(hull.triangle_count());
+    for (iclap::Index t = 0; t < hull.triangle_count(); ++t) {
+      const Eigen::Vector3d u = hull.area_normal(t).normalized();
+      normals.row(t) = u.transpose();
+      offsets[t] = u.dot(hull.corner(t, 0));
+    }
+    tolerance = 1e-6 * (points.rowwise().maxCoeff() - points.rowwise().minCoeff()).maxCoeff();
+  }
+};
+
+const HullCheckFixture& hull_check() {
+  static const HullCheckFixture f;
+  return f;
+}
+
+void hull_check_counters(benchmark::State& state, const HullCheckFixture& f) {
+  state.counters["points"] = static_cast<double>(f.points.cols());
+  state.counters["faces"] = static_cast<double>(f.normals.rows());
+}
+
+void BM_HullCheckBallTree(benchmark::State& state) {
+  const auto& f = hull_check();
+  for (auto _ : state) benchmark::DoNotOptimize(iclap::detail::worst_point_in_front(f.normals, f.offsets, f.points, f.tolerance));
+  hull_check_counters(state, f);
+}
+BENCHMARK(BM_HullCheckBallTree)->Unit(benchmark::kMillisecond);
+
+void BM_HullCheckDense(benchmark::State& state) {
+  const auto& f = hull_check();
+  for (auto _ : state) benchmark::DoNotOptimize(iclap::detail::worst_point_in_front_dense(f.normals, f.offsets, f.points));
+  hull_check_counters(state, f);
+}
+BENCHMARK(BM_HullCheckDense)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
