@@ -40,7 +40,10 @@ inline double worst_point_in_front_dense(const Eigen::MatrixX3d& normals, const 
 /// The same decision as `worst_point_in_front_dense(...) <= tolerance`
 /// (tolerance >= 0), without the dense products: the result is <= tolerance
 /// exactly when the dense worst is, and when it is not, it is the dense worst
-/// (same arithmetic, same value). When it is, the result is the largest value
+/// (the same Eigen product of the same point and face; a build that lets the
+/// compiler fuse multiply-adds, e.g. -march=native, may round the two paths
+/// differently in the last bits, which only a point within about 1e-16 of
+/// the tolerance could notice). When it is, the result is the largest value
 /// it computed, or -infinity.
 ///
 /// The points are put in a ball tree (median splits along the longest axis,
